@@ -1,0 +1,161 @@
+//! The `Kernel` trait the solver is generic over, and the plain data the
+//! generator emits for every kernel (see `generated/`, made by
+//! `cargo run -p shearsph-codegen -- generate`; never edited by hand).
+//!
+//! Lengths inside kernel functions are in units of the smoothing length h:
+//! `q = r / h`. Values are in units of h^-2 (W), h^-3 (dW/dq) and h^-4
+//! ((dW/dq)/q). Functions take `q2 = q^2` so a kernel that is even in q needs
+//! no square root; kernels with odd powers take it inside.
+
+/// A smoothing kernel, specialised by the generator. Unit structs implement
+/// it; the solver is generic over it so every call is static and inlined.
+pub trait Kernel: Copy + Send + Sync + Default + 'static {
+    /// Name as in `kernels/NAME.toml`.
+    const NAME: &'static str;
+    /// Support R in units of h (W = 0 for q > R).
+    const SUPPORT: f64;
+    /// Squared support with a relative tolerance of 1e-9: lattice neighbours at
+    /// exactly q = R count as inside (closed support, as in the derivation),
+    /// whatever the f64 round-off of their distance.
+    const SUPPORT2_CLOSED: f64;
+    /// Everything the derivation found about this kernel.
+    const INFO: &'static KernelInfo;
+    /// W(q), units h^-2.
+    fn w(q2: f64) -> f64;
+    /// dW/dq (the kernel's gradient function, which may be given separately
+    /// from W), units h^-3.
+    fn dw(q2: f64) -> f64;
+    /// (dW/dq) / q, units h^-4. Finite at q = 0.
+    fn dw_over_q(q2: f64) -> f64;
+}
+
+/// A number the generator derived: its f64 value (correctly rounded) and its
+/// exact (or stated high-precision) form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Derived {
+    pub value: f64,
+    /// Exact form, e.g. `-1/2 + 3/(7*pi)*sqrt(3)`, or a decimal with its
+    /// stated digits when the quantity is only known to high precision.
+    pub exact: &'static str,
+    /// `true` when `exact` is an exact closed form, `false` when it is a
+    /// high-precision decimal (quadrature or search).
+    pub is_exact: bool,
+}
+
+/// The compaction analysis of section 4 (eps = rho/rho0 - 1), for a particle
+/// in layer n = 0 unless stated.
+#[derive(Debug, Clone, Copy)]
+pub struct EpsInfo {
+    /// eps at t = 0 (undisturbed lattice).
+    pub t0: Derived,
+    /// eps at t = 0.5 T (odd layers shifted by d/2).
+    pub half_period: Derived,
+    /// True maximum over the period, and where (fraction of T).
+    pub max: Derived,
+    pub t_max: Derived,
+    /// True minimum over the period, and where (fraction of T).
+    pub min: Derived,
+    pub t_min: Derived,
+    /// Time mean over the period.
+    pub mean: Derived,
+}
+
+/// One neighbour in a lattice stencil: offset (x, y) in units of d, layer
+/// offset k, and q^2 = (x^2 + y^2)/(h/d)^2 for h = d.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StencilPoint {
+    pub x: f64,
+    pub k: i32,
+    pub r2: f64,
+}
+
+/// One model of the c0 derivation: the polynomial a c0^2 + b alpha (U/N^2) c0
+/// + c p d = 0 and its root c0 = (U/N^2) (sqrt(P alpha^2 + Q A) - S alpha),
+/// A = p d N^4 / U^2.
+#[derive(Debug, Clone, Copy)]
+pub struct C0Model {
+    pub name: &'static str,
+    pub description: &'static str,
+    pub a: Derived,
+    pub b: Derived,
+    pub c: Derived,
+    pub s: Derived,
+    pub p: Derived,
+    pub q: Derived,
+}
+
+impl C0Model {
+    /// The model sound speed for a scene: u_max = U, n_layers = N, p the body
+    /// force, d the particle spacing, alpha the artificial viscosity.
+    pub fn c0(&self, u_max: f64, n_layers: f64, p: f64, d: f64, alpha: f64) -> f64 {
+        let scale = u_max / (n_layers * n_layers);
+        let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
+        scale * ((self.p.value * alpha * alpha + self.q.value * a_big).sqrt() - self.s.value * alpha)
+    }
+}
+
+/// The paper's printed row of Table 2 for a kernel, if it has one:
+/// c0 = F U (sqrt(P alpha^2 + Q A) - S alpha) / N^2.
+#[derive(Debug, Clone, Copy)]
+pub struct PrintedC0 {
+    pub eps0: f64,
+    pub factor: f64,
+    pub s: f64,
+    pub p: f64,
+    pub q: f64,
+}
+
+impl PrintedC0 {
+    pub fn c0(&self, u_max: f64, n_layers: f64, p: f64, d: f64, alpha: f64) -> f64 {
+        let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
+        self.factor * u_max * ((self.p * alpha * alpha + self.q * a_big).sqrt() - self.s * alpha)
+            / (n_layers * n_layers)
+    }
+}
+
+/// All the generator knows about a kernel, as data for programs.
+#[derive(Debug, Clone, Copy)]
+pub struct KernelInfo {
+    pub name: &'static str,
+    pub title: &'static str,
+    pub reference: &'static str,
+    /// Support R in units of h.
+    pub support: f64,
+    pub support_exact: &'static str,
+    pub eps: EpsInfo,
+    /// Name of the default c0 model (one of `c0_models`).
+    pub c0_default: &'static str,
+    pub c0_models: &'static [C0Model],
+    /// The paper's Table 2 row, when the kernel is one of the paper's.
+    pub printed_c0: Option<PrintedC0>,
+    /// Neighbours of a particle (self included) at t = 0 and at the
+    /// maximum-compaction configuration t = 0.5 T, for h = d.
+    pub stencil_t0: &'static [StencilPoint],
+    pub stencil_half: &'static [StencilPoint],
+    /// eps(t, n) for an interior particle of layer n (far from the walls),
+    /// t as a fraction of T; an unrolled sum over the layers in reach.
+    pub eps_at: fn(t: f64, n: u32) -> f64,
+    /// Floating-point operations per pair evaluation of (w, dw_over_q), as
+    /// counted by the generator in the emitted code.
+    pub flops_per_pair: u32,
+}
+
+impl KernelInfo {
+    pub fn c0_model(&self, name: &str) -> Option<&'static C0Model> {
+        self.c0_models.iter().find(|m| m.name == name)
+    }
+    pub fn default_c0_model(&self) -> &'static C0Model {
+        self.c0_models
+            .iter()
+            .find(|m| m.name == self.c0_default)
+            .expect("generated default c0 model is among the models")
+    }
+}
+
+/// Runs a function generic over the kernel for a kernel chosen by name at
+/// run time; implemented by callers, dispatched by the generated registry
+/// (`generated::with_kernel`), so adding a kernel needs no hand edit.
+pub trait KernelVisitor {
+    type Output;
+    fn visit<K: Kernel>(self) -> Self::Output;
+}
