@@ -1,1 +1,18 @@
+//! shearsph-codegen: exact derivation of how SPH particle density pulses
+//! under plane shear, and of the model sound speed c0 (Reshetnikova 2024),
+//! from kernel definitions in `kernels/*.toml`; emission of the specialised
+//! Rust in `generated/`.
+//!
+//! Stages: [`kernel`] reads and validates a definition (exact polynomials,
+//! [`poly`], over exact numbers, [`exact`]); [`lattice`] enumerates the
+//! triangular lattice; [`compaction`] computes eps(t, n); [`c0`] the terms of
+//! (25)-(34); [`analysis`] gathers them; [`show`] prints them.
 
+pub mod analysis;
+pub mod c0;
+pub mod compaction;
+pub mod exact;
+pub mod kernel;
+pub mod lattice;
+pub mod poly;
+pub mod show;

@@ -1,1 +1,81 @@
-fn main() {}
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use shearsph_codegen::{analysis, kernel, show};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Exact derivation of SPH shear compaction and model sound speed; emits generated/.
+#[derive(Parser)]
+#[command(name = "shearsph-codegen", version)]
+struct Cli {
+    /// Folder of kernel definitions.
+    #[arg(long, global = true, default_value = "kernels")]
+    kernels: PathBuf,
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Print the derivation for one kernel.
+    Show {
+        /// Kernel name (a file kernels/NAME.toml).
+        kernel: String,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+        /// Significant digits of the decimals.
+        #[arg(long, default_value_t = 30)]
+        digits: usize,
+        /// N used for the checks of the paper's claims about layers n and the wall.
+        #[arg(long = "n-layers", default_value_t = 10)]
+        n_layers: i64,
+    },
+}
+
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.cmd {
+        Cmd::Show {
+            kernel: name,
+            json,
+            digits,
+            n_layers,
+        } => {
+            if !(1..=200).contains(&digits) {
+                bail!("--digits {digits}: choose from 1 to 200");
+            }
+            let defs = kernel::load_dir(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let def = defs.iter().find(|k| k.name == name).with_context(|| {
+                format!(
+                    "no kernel `{name}` in {}; known: {}",
+                    cli.kernels.display(),
+                    defs.iter().map(|k| k.name.as_str()).collect::<Vec<_>>().join(", ")
+                )
+            })?;
+            let r_ceil = def.support.to_f64().ceil() as i64;
+            if n_layers < r_ceil + 1 {
+                bail!("--n-layers {n_layers}: needs at least R + 1 = {} layers", r_ceil + 1);
+            }
+            let start = Instant::now();
+            let a = analysis::analyse(def, analysis::Options { digits, check_layers: n_layers });
+            let took = start.elapsed();
+            if json {
+                println!("{}", serde_json::to_string_pretty(&show::json(&a))?);
+            } else {
+                print!("{}", show::text(&a));
+                println!("\n(derived in {:.2} s)", took.as_secs_f64());
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,543 @@
+//! Polynomials in q with exact coefficients, and the small formula language a
+//! kernel definition is written in:
+//!
+//! ```text
+//! expr  := term (('+' | '-') term)*
+//! term  := unary (('*' | '/') unary)*
+//! unary := ('-' | '+') unary | power
+//! power := atom ('^' INTEGER)?
+//! atom  := NUMBER | 'q' | 'pi' | 'sqrt' '(' expr ')' | '(' expr ')'
+//! ```
+//!
+//! Numbers are exact: `0.5` is 1/2. `^` binds tighter than unary minus
+//! (`-q^2` is `-(q^2)`). Division is by constants that are monomials
+//! (`/(7*pi)`, `/6`); `sqrt` takes a non-negative rational constant.
+
+use crate::exact::Exact;
+use rug::Rational;
+use std::fmt;
+
+/// `sum_k coef[k] q^k`, no trailing zeros.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Poly {
+    pub coef: Vec<Exact>,
+}
+
+impl Poly {
+    pub fn constant(c: Exact) -> Self {
+        Poly { coef: vec![c] }.trimmed()
+    }
+
+    pub fn q() -> Self {
+        Poly {
+            coef: vec![Exact::zero(), Exact::one()],
+        }
+    }
+
+    fn trimmed(mut self) -> Self {
+        while self.coef.last().is_some_and(|c| c.is_zero()) {
+            self.coef.pop();
+        }
+        self
+    }
+
+    pub fn is_zero(&self) -> bool {
+        self.coef.is_empty()
+    }
+
+    pub fn degree(&self) -> usize {
+        self.coef.len().saturating_sub(1)
+    }
+
+    pub fn as_constant(&self) -> Option<Exact> {
+        match self.coef.len() {
+            0 => Some(Exact::zero()),
+            1 => Some(self.coef[0].clone()),
+            _ => None,
+        }
+    }
+
+    pub fn add(&self, o: &Poly) -> Poly {
+        let n = self.coef.len().max(o.coef.len());
+        let z = Exact::zero();
+        Poly {
+            coef: (0..n)
+                .map(|k| self.coef.get(k).unwrap_or(&z) + o.coef.get(k).unwrap_or(&z))
+                .collect(),
+        }
+        .trimmed()
+    }
+
+    pub fn neg(&self) -> Poly {
+        Poly {
+            coef: self.coef.iter().map(|c| -c).collect(),
+        }
+    }
+
+    pub fn sub(&self, o: &Poly) -> Poly {
+        self.add(&o.neg())
+    }
+
+    pub fn mul(&self, o: &Poly) -> Poly {
+        if self.is_zero() || o.is_zero() {
+            return Poly::default();
+        }
+        let mut coef = vec![Exact::zero(); self.coef.len() + o.coef.len() - 1];
+        for (i, a) in self.coef.iter().enumerate() {
+            for (j, b) in o.coef.iter().enumerate() {
+                coef[i + j] = &coef[i + j] + &(a * b);
+            }
+        }
+        Poly { coef }.trimmed()
+    }
+
+    pub fn scale(&self, c: &Exact) -> Poly {
+        Poly {
+            coef: self.coef.iter().map(|a| a * c).collect(),
+        }
+        .trimmed()
+    }
+
+    pub fn pow(&self, n: u32) -> Poly {
+        let mut out = Poly::constant(Exact::one());
+        for _ in 0..n {
+            out = out.mul(self);
+        }
+        out
+    }
+
+    /// d/dq.
+    pub fn derivative(&self) -> Poly {
+        Poly {
+            coef: self
+                .coef
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(k, c)| c * &Exact::int(k as i64))
+                .collect(),
+        }
+        .trimmed()
+    }
+
+    /// Value at a rational q.
+    pub fn eval_rational(&self, q: &Rational) -> Exact {
+        let mut acc = Exact::zero();
+        for c in self.coef.iter().rev() {
+            acc = &(&acc * &Exact::rational(q.clone())) + c;
+        }
+        acc
+    }
+
+    /// Value at q = sqrt(q2), q2 a non-negative rational: even powers are
+    /// rational, odd ones carry sqrt(q2).
+    pub fn eval_sqrt(&self, q2: &Rational) -> Exact {
+        let root = Exact::sqrt_rational(q2);
+        let mut even = Exact::zero();
+        let mut odd = Exact::zero();
+        let mut pow = Exact::one(); // q2^(k/2)
+        for (k, c) in self.coef.iter().enumerate() {
+            if k > 0 && k % 2 == 0 {
+                pow = &pow * &Exact::rational(q2.clone());
+            }
+            if k % 2 == 0 {
+                even = &even + &(c * &pow);
+            } else {
+                odd = &odd + &(c * &pow);
+            }
+        }
+        &even + &(&odd * &root)
+    }
+
+    /// `int_a^b p(q) q^m dq`, exactly (a, b rational).
+    pub fn integral_times_power(&self, m: u32, a: &Rational, b: &Rational) -> Exact {
+        let mut acc = Exact::zero();
+        for (k, c) in self.coef.iter().enumerate() {
+            let e = k as u32 + m + 1;
+            let diff = Rational::from(b.clone().pow_int(e)) - Rational::from(a.clone().pow_int(e));
+            acc = &acc + &(c * &Exact::rational(diff / Rational::from(e)));
+        }
+        acc
+    }
+
+    pub fn is_odd(&self) -> bool {
+        self.coef.iter().step_by(2).all(|c| c.is_zero())
+    }
+
+    pub fn is_even(&self) -> bool {
+        self.coef.iter().skip(1).step_by(2).all(|c| c.is_zero())
+    }
+}
+
+trait PowInt {
+    fn pow_int(self, e: u32) -> Rational;
+}
+impl PowInt for Rational {
+    fn pow_int(self, e: u32) -> Rational {
+        let mut out = Rational::from(1);
+        for _ in 0..e {
+            out *= &self;
+        }
+        out
+    }
+}
+
+impl fmt::Display for Poly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.is_zero() {
+            return write!(f, "0");
+        }
+        let mut first = true;
+        for (k, c) in self.coef.iter().enumerate() {
+            if c.is_zero() {
+                continue;
+            }
+            if !first {
+                write!(f, " + ")?;
+            }
+            first = false;
+            match k {
+                0 => write!(f, "({c})")?,
+                1 => write!(f, "({c})*q")?,
+                _ => write!(f, "({c})*q^{k}")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A formula that could not be read: 1-based column within the formula.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParseError {
+    pub column: usize,
+    pub message: String,
+    pub fix: String,
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "column {}: {}", self.column, self.message)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Tok {
+    Num(Rational),
+    Ident(String),
+    Op(char),
+}
+
+fn lex(src: &str) -> Result<Vec<(usize, Tok)>, ParseError> {
+    let chars: Vec<char> = src.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let col = i + 1;
+        if c.is_whitespace() {
+            i += 1;
+        } else if c.is_ascii_digit() || c == '.' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
+                i += 1;
+            }
+            let text: String = chars[start..i].iter().collect();
+            let q = parse_decimal(&text).ok_or_else(|| ParseError {
+                column: col,
+                message: format!("`{text}` is not a number"),
+                fix: "write numbers as 12, 3.25 or 13/4".into(),
+            })?;
+            out.push((col, Tok::Num(q)));
+        } else if c.is_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            out.push((col, Tok::Ident(chars[start..i].iter().collect())));
+        } else if "+-*/^()".contains(c) {
+            out.push((col, Tok::Op(c)));
+            i += 1;
+        } else {
+            return Err(ParseError {
+                column: col,
+                message: format!("unexpected character `{c}`"),
+                fix: "use numbers, q, pi, sqrt(..), + - * / ^ and parentheses".into(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// An exact rational from a decimal literal such as `12`, `0.125`, `2.`.
+pub fn parse_decimal(text: &str) -> Option<Rational> {
+    let (int, frac) = match text.split_once('.') {
+        Some((a, b)) => (a, b),
+        None => (text, ""),
+    };
+    if (int.is_empty() && frac.is_empty()) || frac.contains('.') {
+        return None;
+    }
+    let digits = format!("{int}{frac}");
+    let num: rug::Integer = digits.parse().ok()?;
+    let den = rug::Integer::from(10).pow_ref_u(frac.len() as u32);
+    Some(Rational::from((num, den)))
+}
+
+trait PowRefU {
+    fn pow_ref_u(self, e: u32) -> rug::Integer;
+}
+impl PowRefU for rug::Integer {
+    fn pow_ref_u(self, e: u32) -> rug::Integer {
+        use rug::ops::Pow;
+        self.pow(e)
+    }
+}
+
+/// An exact rational from `3`, `-3/2`, `0.75`.
+pub fn parse_rational(text: &str) -> Option<Rational> {
+    let t = text.trim();
+    let (neg, t) = match t.strip_prefix('-') {
+        Some(rest) => (true, rest.trim()),
+        None => (false, t),
+    };
+    let q = match t.split_once('/') {
+        Some((a, b)) => {
+            let a = parse_decimal(a.trim())?;
+            let b = parse_decimal(b.trim())?;
+            if b == 0 {
+                return None;
+            }
+            a / b
+        }
+        None => parse_decimal(t)?,
+    };
+    Some(if neg { -q } else { q })
+}
+
+struct Parser {
+    toks: Vec<(usize, Tok)>,
+    pos: usize,
+    end_col: usize,
+}
+
+const GRAMMAR_FIX: &str =
+    "write a polynomial in q with numbers, pi, sqrt(..), + - * / ^ and parentheses, e.g. 15/(7*pi) * (2 - q)^3 / 6";
+
+impl Parser {
+    fn peek(&self) -> Option<&Tok> {
+        self.toks.get(self.pos).map(|(_, t)| t)
+    }
+    fn col(&self) -> usize {
+        self.toks.get(self.pos).map(|(c, _)| *c).unwrap_or(self.end_col)
+    }
+    fn err(&self, message: String) -> ParseError {
+        ParseError {
+            column: self.col(),
+            message,
+            fix: GRAMMAR_FIX.into(),
+        }
+    }
+
+    fn expr(&mut self) -> Result<Poly, ParseError> {
+        let mut acc = self.term()?;
+        while let Some(Tok::Op(c @ ('+' | '-'))) = self.peek().cloned() {
+            self.pos += 1;
+            let rhs = self.term()?;
+            acc = if c == '+' { acc.add(&rhs) } else { acc.sub(&rhs) };
+        }
+        Ok(acc)
+    }
+
+    fn term(&mut self) -> Result<Poly, ParseError> {
+        let mut acc = self.unary()?;
+        while let Some(Tok::Op(c @ ('*' | '/'))) = self.peek().cloned() {
+            let col = self.col();
+            self.pos += 1;
+            let rhs = self.unary()?;
+            if c == '*' {
+                acc = acc.mul(&rhs);
+            } else {
+                let den = rhs.as_constant().ok_or_else(|| ParseError {
+                    column: col,
+                    message: "division by an expression in q".into(),
+                    fix: "divide only by constants; multiply the pieces out instead".into(),
+                })?;
+                if den.is_zero() {
+                    return Err(ParseError {
+                        column: col,
+                        message: "division by zero".into(),
+                        fix: "remove the division or correct the divisor".into(),
+                    });
+                }
+                let mut out = Poly::default();
+                for (k, a) in acc.coef.iter().enumerate() {
+                    let v = a.div_monomial(&den).ok_or_else(|| ParseError {
+                        column: col,
+                        message: format!("division by `{den}`, which is not a single term"),
+                        fix: "divide only by a rational times a power of pi (and sqrt of a rational)".into(),
+                    })?;
+                    let mut mono = vec![Exact::zero(); k + 1];
+                    mono[k] = v;
+                    out = out.add(&Poly { coef: mono });
+                }
+                acc = out;
+            }
+        }
+        Ok(acc)
+    }
+
+    fn unary(&mut self) -> Result<Poly, ParseError> {
+        match self.peek() {
+            Some(Tok::Op('-')) => {
+                self.pos += 1;
+                Ok(self.unary()?.neg())
+            }
+            Some(Tok::Op('+')) => {
+                self.pos += 1;
+                self.unary()
+            }
+            _ => self.power(),
+        }
+    }
+
+    fn power(&mut self) -> Result<Poly, ParseError> {
+        let base = self.atom()?;
+        if let Some(Tok::Op('^')) = self.peek() {
+            self.pos += 1;
+            let col = self.col();
+            match self.peek().cloned() {
+                Some(Tok::Num(n)) if n.denom() == &1 && *n.numer() >= 0 && *n.numer() <= 64 => {
+                    self.pos += 1;
+                    Ok(base.pow(n.numer().to_u32().unwrap()))
+                }
+                _ => Err(ParseError {
+                    column: col,
+                    message: "an exponent must be a whole number from 0 to 64".into(),
+                    fix: "write powers as q^3 or (2 - q)^5".into(),
+                }),
+            }
+        } else {
+            Ok(base)
+        }
+    }
+
+    fn atom(&mut self) -> Result<Poly, ParseError> {
+        let col = self.col();
+        match self.peek().cloned() {
+            Some(Tok::Num(n)) => {
+                self.pos += 1;
+                Ok(Poly::constant(Exact::rational(n)))
+            }
+            Some(Tok::Ident(name)) => {
+                self.pos += 1;
+                match name.as_str() {
+                    "q" => Ok(Poly::q()),
+                    "pi" => Ok(Poly::constant(Exact::pi_pow(1))),
+                    "sqrt" => {
+                        self.expect('(')?;
+                        let inner = self.expr()?;
+                        self.expect(')')?;
+                        let r = inner
+                            .as_constant()
+                            .and_then(|c| c.as_rational())
+                            .filter(|r| *r >= 0)
+                            .ok_or_else(|| ParseError {
+                                column: col,
+                                message: "sqrt of something other than a non-negative rational".into(),
+                                fix: "use sqrt only on numbers, e.g. sqrt(3)".into(),
+                            })?;
+                        Ok(Poly::constant(Exact::sqrt_rational(&r)))
+                    }
+                    other => Err(ParseError {
+                        column: col,
+                        message: format!("unknown symbol `{other}`"),
+                        fix: "the variable is q (= r/h); the only named constant is pi".into(),
+                    }),
+                }
+            }
+            Some(Tok::Op('(')) => {
+                self.pos += 1;
+                let e = self.expr()?;
+                self.expect(')')?;
+                Ok(e)
+            }
+            Some(Tok::Op(c)) => Err(self.err(format!("unexpected `{c}`"))),
+            None => Err(self.err("the formula ends too early".into())),
+        }
+    }
+
+    fn expect(&mut self, c: char) -> Result<(), ParseError> {
+        match self.peek() {
+            Some(Tok::Op(x)) if *x == c => {
+                self.pos += 1;
+                Ok(())
+            }
+            Some(t) => {
+                let shown = match t {
+                    Tok::Num(n) => n.to_string(),
+                    Tok::Ident(s) => s.clone(),
+                    Tok::Op(o) => o.to_string(),
+                };
+                Err(self.err(format!("expected `{c}`, found `{shown}`")))
+            }
+            None => Err(self.err(format!("expected `{c}` before the end"))),
+        }
+    }
+}
+
+/// Parses a formula into an exact polynomial in q.
+pub fn parse_poly(src: &str) -> Result<Poly, ParseError> {
+    let toks = lex(src)?;
+    let mut p = Parser {
+        toks,
+        pos: 0,
+        end_col: src.chars().count() + 1,
+    };
+    if p.toks.is_empty() {
+        return Err(p.err("the formula is empty".into()));
+    }
+    let out = p.expr()?;
+    if p.pos < p.toks.len() {
+        return Err(p.err("unexpected text after the formula (a missing operator?)".into()));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn powers_bind_tighter_than_minus_and_division() {
+        let p = parse_poly("-q^2 + q^3/2").unwrap();
+        assert_eq!(p.to_string(), "(-1)*q^2 + (1/2)*q^3");
+        let c = parse_poly("(2 - q)^3/6").unwrap();
+        assert_eq!(c.eval_rational(&Rational::from(1)).as_rational(), Some(Rational::from((1, 6))));
+    }
+
+    #[test]
+    fn pi_and_decimals_are_exact() {
+        let p = parse_poly("15/(7*pi) * 0.5").unwrap();
+        assert_eq!(p.as_constant().unwrap().to_string(), "15/(14*pi)");
+    }
+
+    #[test]
+    fn errors_point_at_columns() {
+        let e = parse_poly("1 - x^2").unwrap_err();
+        assert_eq!(e.column, 5);
+        assert!(e.message.contains("unknown symbol `x`"));
+        let e = parse_poly("1 / (1 - q)").unwrap_err();
+        assert!(e.message.contains("division by an expression in q"));
+        let e = parse_poly("(1 - q").unwrap_err();
+        assert!(e.message.contains("expected `)`"));
+        let e = parse_poly("1/0").unwrap_err();
+        assert!(e.message.contains("division by zero"));
+    }
+
+    #[test]
+    fn odd_powers_carry_the_root() {
+        let p = parse_poly("q^3").unwrap();
+        let v = p.eval_sqrt(&Rational::from((3, 4)));
+        assert_eq!(v.to_string(), "3*sqrt(3)/8");
+    }
+}
