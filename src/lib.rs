@@ -3,3 +3,15 @@
 //! (made by `cargo run -p shearsph-codegen -- generate`).
 
 pub mod kernel;
+
+/// The generated kernels: one unit struct per `kernels/*.toml` implementing
+/// [`kernel::Kernel`], and the registry (`KERNELS`, `NAMES`, `kernel_info`,
+/// `with_kernel`). `include!` keeps rustfmt out of `generated/`, whose
+/// formatting is prettyplease's.
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub mod kernels {
+    include!("../generated/registry.rs");
+}
+pub mod analytic;
+pub mod scene;
+pub mod solver;

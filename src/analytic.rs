@@ -1,0 +1,148 @@
+//! The analytic solutions the solver is checked against: the steady profile
+//! (7) of plane Poiseuille flow and its start-up from rest (Morris, Fox & Zhu
+//! 1997), for walls at y = ±B and a body force p along +x.
+
+use std::f64::consts::PI;
+
+use serde::Serialize;
+
+/// Relative accuracy of the start-up series: terms are summed until the
+/// bound on the rest is below this times U.
+const SERIES_TOL: f64 = 1e-15;
+
+/// Plane Poiseuille flow: half-width `b`, centre-line speed `u` (U), kinematic
+/// viscosity `nu` and body force per unit mass `p`, tied by (9):
+/// 2 nu U / B^2 = p.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Poiseuille {
+    pub b: f64,
+    pub u: f64,
+    pub nu: f64,
+    pub p: f64,
+}
+
+impl Poiseuille {
+    /// From the Reynolds number Re = U B / nu: p = 2 U^2 / (Re B).
+    pub fn from_re(u: f64, b: f64, re: f64) -> Self {
+        Poiseuille {
+            b,
+            u,
+            nu: u * b / re,
+            p: 2.0 * u * u / (re * b),
+        }
+    }
+
+    /// From the body force: nu = p B^2 / (2 U), the balance (9)-(10).
+    pub fn from_p(u: f64, b: f64, p: f64) -> Self {
+        Poiseuille {
+            b,
+            u,
+            nu: p * b * b / (2.0 * u),
+            p,
+        }
+    }
+
+    /// Re = U B / nu.
+    pub fn re(&self) -> f64 {
+        self.u * self.b / self.nu
+    }
+
+    /// The steady profile (7): u(y) = U (B^2 - y^2) / B^2, zero outside the channel.
+    pub fn steady(&self, y: f64) -> f64 {
+        if y.abs() >= self.b {
+            return 0.0;
+        }
+        self.u * (self.b * self.b - y * y) / (self.b * self.b)
+    }
+
+    /// Start-up from rest at time t, with y' = y + B in [0, L], L = 2B:
+    /// u = p/(2 nu) y'(L - y') - sum_n 4 p L^2 / (nu pi^3 k^3) sin(k pi y'/L)
+    /// exp(-k^2 pi^2 nu t / L^2), k = 2n + 1.
+    pub fn startup(&self, y: f64, t: f64) -> f64 {
+        if y.abs() >= self.b || t <= 0.0 {
+            return 0.0;
+        }
+        let l = 2.0 * self.b;
+        let yp = y + self.b;
+        let amplitude = 4.0 * self.p * l * l / (self.nu * PI.powi(3));
+        let tau = PI * PI * self.nu * t / (l * l);
+        let tol = SERIES_TOL * self.u;
+        let mut sum = 0.0;
+        let mut k = 1.0_f64;
+        loop {
+            let decay = (-k * k * tau).exp();
+            let term = amplitude / (k * k * k) * decay;
+            sum += term * (k * PI * yp / l).sin();
+            // Bound on the rest of the series: the terms fall at least
+            // geometrically with ratio exp(-4 k tau), and at least as 1/k^3
+            // (tail below amplitude exp(-k^2 tau) / (4 k^2)).
+            let ratio = (-4.0 * k * tau).exp();
+            let geometric = term * ratio / (1.0 - ratio);
+            let cubic = amplitude * decay / (4.0 * k * k);
+            if geometric.min(cubic) < tol {
+                break;
+            }
+            k += 2.0;
+        }
+        self.p / (2.0 * self.nu) * yp * (l - yp) - sum
+    }
+
+    /// Time for the slowest mode of the start-up series to fall below `tol`
+    /// times U: its amplitude is 32 U / pi^3 and it decays as
+    /// exp(-pi^2 nu t / L^2).
+    pub fn decay_time(&self, tol: f64) -> f64 {
+        let l = 2.0 * self.b;
+        let amplitude = 32.0 / PI.powi(3);
+        l * l / (PI * PI * self.nu) * (amplitude / tol).ln().max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flow() -> Poiseuille {
+        Poiseuille::from_re(1.0, 3.0, 10.0)
+    }
+
+    #[test]
+    fn balance_ties_re_and_p() {
+        let f = flow();
+        let g = Poiseuille::from_p(f.u, f.b, f.p);
+        assert!((g.nu - f.nu).abs() < 1e-15 * f.nu);
+        assert!((f.re() - 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn startup_starts_at_rest_and_tends_to_steady() {
+        let f = flow();
+        for &y in &[-2.9, -1.0, 0.0, 0.5, 2.0] {
+            // Tiny time: the series is the sine series of the parabola.
+            assert!(f.startup(y, 1e-9).abs() < 1e-3, "y = {y}");
+            let late = f.startup(y, f.decay_time(1e-12));
+            assert!((late - f.steady(y)).abs() < 1e-11, "y = {y}");
+        }
+    }
+
+    #[test]
+    fn startup_solves_the_diffusion_equation() {
+        // du/dt = nu u'' + p, checked by central differences inside the channel.
+        let f = flow();
+        let (t, hy, ht) = (2.0, 1e-3, 1e-3);
+        for &y in &[-2.0, -0.3, 0.0, 1.7] {
+            let dudt = (f.startup(y, t + ht) - f.startup(y, t - ht)) / (2.0 * ht);
+            let d2u = (f.startup(y + hy, t) - 2.0 * f.startup(y, t) + f.startup(y - hy, t)) / (hy * hy);
+            assert!((dudt - (f.nu * d2u + f.p)).abs() < 1e-5, "y = {y}");
+        }
+    }
+
+    #[test]
+    fn decay_time_matches_first_mode() {
+        let f = flow();
+        let t = f.decay_time(1e-3);
+        // At that time the deficit at the centre is the first mode's, 1e-3 U
+        // (higher modes are far smaller, and they alternate in sign).
+        let deficit = f.steady(0.0) - f.startup(0.0, t);
+        assert!((deficit - 1e-3).abs() < 1e-9, "deficit {deficit}");
+    }
+}

@@ -1,0 +1,619 @@
+//! A scene fixes one run: the kernel, the lattice, the flow, the sound speed
+//! c0 (a number or a rule), the start and the end. It is read from TOML (the
+//! embedded default, then a scene file, then flags, each overriding field by
+//! field) and resolved against the kernel into a [`Problem`], the numbers the
+//! solver uses. Every invalid value gets an error naming the field, its flag
+//! and the fix.
+
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::analytic::Poiseuille;
+use crate::kernel::KernelInfo;
+use crate::solver::lattice::Lattice;
+use crate::solver::registry;
+
+/// The built-in scene (src/default_scene.toml).
+pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
+
+/// Default artificial viscosity. The paper takes alpha in (0, 0.25); 0.1 is
+/// the usual middle of that range and keeps the extra shear viscosity of
+/// (31), about alpha c0 h / 8, a few per cent of nu at the default scene.
+pub const DEFAULT_ALPHA: f64 = 0.1;
+
+/// One scene, as written in TOML. Lengths in any unit, consistently.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Kernel name, as in kernels/NAME.toml.
+    pub kernel: String,
+    /// N: fluid layers n = -(N-1) ..= N-1, half-width B = N dy.
+    pub n_layers: u32,
+    /// Smoothing length h in units of d.
+    #[serde(default = "one")]
+    pub h_over_d: f64,
+    /// Particle spacing d.
+    #[serde(default = "one")]
+    pub d: f64,
+    /// Centre-line speed U of the steady profile.
+    #[serde(default = "one")]
+    pub u: f64,
+    /// Reynolds number U B / nu; give this or `p`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub re: Option<f64>,
+    /// Body force per unit mass along +x; give this or `re`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p: Option<f64>,
+    /// Rest density.
+    #[serde(default = "one")]
+    pub rho0: f64,
+    /// Artificial viscosity coefficient of (31).
+    #[serde(default = "default_alpha")]
+    pub alpha: f64,
+    /// Sound speed: a number or a rule, see [`C0Spec`].
+    #[serde(default)]
+    pub c0: C0Spec,
+    /// Start from rest (the start-up problem) or from the steady profile (7).
+    #[serde(default)]
+    pub initial: Initial,
+    /// End time; by default long enough for the start-up's slowest mode to
+    /// fall below `decay_tol` U.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_end: Option<f64>,
+    #[serde(default = "default_decay_tol")]
+    pub decay_tol: f64,
+    /// Time between diagnostics; by default t_end / 20.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output_interval: Option<f64>,
+    /// EOS exponent: 1 is (13), above 1 the Tait form.
+    #[serde(default = "one")]
+    pub gamma: f64,
+    /// Keep negative pressures (tension) instead of clipping them to 0 as (13).
+    #[serde(default)]
+    pub allow_negative_pressure: bool,
+    #[serde(default)]
+    pub pressure_form: PressureForm,
+    /// A run fails when the fluid's compaction eps = rho/rho0 - 1 exceeds this.
+    #[serde(default = "default_eps_limit")]
+    pub eps_limit: f64,
+    /// Neighbour-list skin in units of h (performance only).
+    #[serde(default = "default_skin")]
+    pub skin: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn default_alpha() -> f64 {
+    DEFAULT_ALPHA
+}
+fn default_decay_tol() -> f64 {
+    1e-3
+}
+/// Ten times weakly compressible (1 %) and above the largest lattice
+/// pulsation of the paper's kernels (6 % for the composite one): a fluid
+/// compacted by 20 % has lost its lattice.
+fn default_eps_limit() -> f64 {
+    0.2
+}
+fn default_skin() -> f64 {
+    0.3
+}
+
+/// The start of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Initial {
+    /// At rest: the start-up problem, compared with its series solution.
+    #[default]
+    Rest,
+    /// The steady profile (7), compared with (7).
+    Steady,
+}
+
+impl FromStr for Initial {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "rest" => Ok(Initial::Rest),
+            "steady" => Ok(Initial::Steady),
+            _ => Err(format!("unknown initial state {s:?}: use rest or steady")),
+        }
+    }
+}
+
+/// The pressure acceleration's form.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PressureForm {
+    /// The paper's (12): -(m / rho_i^2) sum (P_i + P_j) grad W.
+    #[default]
+    Paper,
+    /// -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad W (momentum conserving).
+    Symmetric,
+}
+
+/// A base rule for c0.
+#[derive(Debug, Clone, PartialEq)]
+pub enum C0Rule {
+    /// A model derived for the kernel (`derived` is its default model,
+    /// `derived:NAME` a named one).
+    Derived(Option<String>),
+    /// c0 = 10 U, the usual rule (4).
+    Rule10,
+    /// The paper's printed row of Table 2 for the kernel.
+    Table2,
+}
+
+impl fmt::Display for C0Rule {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            C0Rule::Derived(None) => write!(f, "derived"),
+            C0Rule::Derived(Some(m)) => write!(f, "derived:{m}"),
+            C0Rule::Rule10 => write!(f, "rule10"),
+            C0Rule::Table2 => write!(f, "table2"),
+        }
+    }
+}
+
+/// c0 as a number, or a factor times a rule: `3.5`, `derived`,
+/// `derived:MODEL`, `rule10`, `table2`, `0.5*derived`, `0.01*rule10`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum C0Spec {
+    Value(f64),
+    Rule { factor: f64, rule: C0Rule },
+}
+
+impl Default for C0Spec {
+    fn default() -> Self {
+        C0Spec::Rule {
+            factor: 1.0,
+            rule: C0Rule::Derived(None),
+        }
+    }
+}
+
+const C0_SYNTAX: &str = "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, rule10, table2";
+
+impl FromStr for C0Spec {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        if let Ok(v) = s.parse::<f64>() {
+            return Ok(C0Spec::Value(v));
+        }
+        let (factor, rule) = match s.split_once('*') {
+            Some((f, r)) => {
+                let factor = f
+                    .trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("bad factor {:?} in c0 = {s:?}: expected {C0_SYNTAX}", f.trim()))?;
+                (factor, r.trim())
+            }
+            None => (1.0, s),
+        };
+        let rule = match rule {
+            "derived" => C0Rule::Derived(None),
+            "rule10" => C0Rule::Rule10,
+            "table2" => C0Rule::Table2,
+            r => match r.strip_prefix("derived:") {
+                Some(m) if !m.is_empty() => C0Rule::Derived(Some(m.to_string())),
+                _ => return Err(format!("unknown c0 rule {r:?}: expected {C0_SYNTAX}")),
+            },
+        };
+        Ok(C0Spec::Rule { factor, rule })
+    }
+}
+
+impl fmt::Display for C0Spec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            C0Spec::Value(v) => write!(f, "{v}"),
+            C0Spec::Rule { factor, rule } if *factor == 1.0 => write!(f, "{rule}"),
+            C0Spec::Rule { factor, rule } => write!(f, "{factor}*{rule}"),
+        }
+    }
+}
+
+impl Serialize for C0Spec {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            C0Spec::Value(v) => s.serialize_f64(*v),
+            rule => s.collect_str(rule),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for C0Spec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Number(f64),
+            Text(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Number(v) => Ok(C0Spec::Value(v)),
+            Raw::Text(t) => t.parse().map_err(serde::de::Error::custom),
+        }
+    }
+}
+
+/// A scene that cannot run, or cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("invalid `{field}` (flag --{flag}): {message}")]
+    Invalid {
+        field: &'static str,
+        flag: &'static str,
+        message: String,
+    },
+    #[error("unknown kernel {name:?} (field `kernel`, flag --kernel); known kernels: {known}")]
+    UnknownKernel { name: String, known: String },
+    #[error("{origin}: {message}")]
+    Read { origin: String, message: String },
+}
+
+/// The flag that sets a scene field.
+fn flag_of(field: &'static str) -> &'static str {
+    match field {
+        "n_layers" => "n",
+        "h_over_d" => "h-over-d",
+        "t_end" => "t-end",
+        "decay_tol" => "decay-tol",
+        "output_interval" => "output-interval",
+        "allow_negative_pressure" => "allow-negative-pressure",
+        "pressure_form" => "pressure-form",
+        "eps_limit" => "eps-limit",
+        other => other,
+    }
+}
+
+fn invalid(field: &'static str, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid {
+        field,
+        flag: flag_of(field),
+        message: message.into(),
+    }
+}
+
+/// Lay `over` onto `base` field by field. `re` and `p` are alternatives:
+/// setting one drops the other from below.
+pub fn overlay(base: &mut toml::Table, over: toml::Table) {
+    for (key, value) in over {
+        match key.as_str() {
+            "re" => {
+                base.remove("p");
+            }
+            "p" => {
+                base.remove("re");
+            }
+            _ => {}
+        }
+        base.insert(key, value);
+    }
+}
+
+impl Scene {
+    /// The built-in scene.
+    pub fn builtin() -> Scene {
+        Scene::load(None, toml::Table::new()).expect("the built-in scene is valid")
+    }
+
+    /// The built-in scene, overlaid by the scene file if given, then by
+    /// `overrides` (from flags).
+    pub fn load(file: Option<&Path>, overrides: toml::Table) -> Result<Scene, SceneError> {
+        let mut table: toml::Table = DEFAULT_SCENE.parse().expect("the built-in scene is valid TOML");
+        let mut origin = "scene (built-in default".to_string();
+        if let Some(path) = file {
+            let read_err = |message: String| SceneError::Read {
+                origin: format!("scene file {}", path.display()),
+                message,
+            };
+            let text = std::fs::read_to_string(path).map_err(|e| read_err(e.to_string()))?;
+            let own: toml::Table = text.parse().map_err(|e: toml::de::Error| read_err(e.to_string()))?;
+            if own.contains_key("re") && own.contains_key("p") {
+                return Err(read_err(
+                    "gives both `re` and `p`; they fix the same thing (p = 2 U^2 / (Re B)): keep one".into(),
+                ));
+            }
+            overlay(&mut table, own);
+            origin.push_str(&format!(", over it the file {}", path.display()));
+        }
+        if !overrides.is_empty() {
+            origin.push_str(", then flags");
+        }
+        overlay(&mut table, overrides);
+        origin.push(')');
+        toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| SceneError::Read {
+            origin,
+            message: e.message().trim().to_string(),
+        })
+    }
+
+    /// Parse a whole scene from TOML, with no defaults but the fields'.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::Read {
+            origin: "scene".into(),
+            message: e.message().trim().to_string(),
+        })
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a scene serialises")
+    }
+
+    /// The kernel's data from the registry, or an error listing the known ones.
+    pub fn kernel_info(&self) -> Result<&'static KernelInfo, SceneError> {
+        kernel_info(&self.kernel)
+    }
+}
+
+/// A kernel's data by name, or an error listing the known kernels.
+pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
+    registry::kernel_info(name).ok_or_else(|| SceneError::UnknownKernel {
+        name: name.to_string(),
+        known: registry::KERNELS.iter().map(|k| k.name).collect::<Vec<_>>().join(", "),
+    })
+}
+
+/// A scene resolved against its kernel: every number the solver uses.
+#[derive(Debug, Clone, Serialize)]
+pub struct Problem {
+    pub scene: Scene,
+    #[serde(skip)]
+    pub kernel: &'static KernelInfo,
+    pub lattice: Lattice,
+    /// Walls at y = ±B, U, nu and p.
+    pub flow: Poiseuille,
+    pub re: f64,
+    pub rho0: f64,
+    /// Particle mass (sqrt 3 / 2) d^2 rho0 (11).
+    pub mass: f64,
+    /// Dynamic viscosity rho0 nu (10).
+    pub mu: f64,
+    pub c0: f64,
+    /// The rule c0 came from, in scene syntax with the model named
+    /// (e.g. `0.5*derived:full`), or `value`.
+    pub c0_rule: String,
+    pub t_end: f64,
+    pub output_interval: f64,
+    pub initial: Initial,
+    /// A run fails when a fluid speed exceeds 10 U + c0: no flow of this
+    /// problem comes near it (the flow is at most U, the acoustic pulsation a
+    /// fraction of c0).
+    pub v_limit: f64,
+}
+
+impl Problem {
+    /// Check the scene and compute everything the solver needs for kernel
+    /// `info`.
+    pub fn new(scene: &Scene, info: &'static KernelInfo) -> Result<Problem, SceneError> {
+        positive("d", scene.d)?;
+        positive("h_over_d", scene.h_over_d)?;
+        positive("u", scene.u)?;
+        positive("rho0", scene.rho0)?;
+        positive("decay_tol", scene.decay_tol)?;
+        positive("eps_limit", scene.eps_limit)?;
+        if !(0.0..=1.0).contains(&scene.alpha) {
+            return Err(invalid(
+                "alpha",
+                format!("{} is outside [0, 1]; the paper takes alpha in (0, 0.25)", scene.alpha),
+            ));
+        }
+        if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
+            return Err(invalid("gamma", format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma)));
+        }
+        let d = scene.d;
+        let h = scene.h_over_d * d;
+        let support = info.support;
+        if !(scene.skin > 0.0 && scene.skin < support) {
+            return Err(invalid(
+                "skin",
+                format!("{} (in h) must be in (0, R) = (0, {support}) for kernel {}", scene.skin, info.name),
+            ));
+        }
+        let lattice = Lattice::new(scene.n_layers, d, h, support);
+        // The centre line's support must not reach the wall (closed support).
+        let n_min = (support * h * (1.0 + 1e-9) / lattice.dy).floor() as u32 + 1;
+        if scene.n_layers < n_min {
+            return Err(invalid(
+                "n_layers",
+                format!(
+                    "{} is too small for kernel {} (support R = {support}, h = {} d): the centre layer's \
+                     support reaches the wall; use n_layers >= {n_min}",
+                    scene.n_layers, info.name, scene.h_over_d
+                ),
+            ));
+        }
+        let b = lattice.b();
+        let flow = match (scene.re, scene.p) {
+            (Some(_), Some(_)) => {
+                return Err(invalid("re", "both `re` and `p` are given; they fix the same thing: keep one"));
+            }
+            (None, None) => return Err(invalid("re", "give `re` (or `p`, the body force)")),
+            (Some(re), None) => {
+                positive("re", re)?;
+                Poiseuille::from_re(scene.u, b, re)
+            }
+            (None, Some(p)) => {
+                positive("p", p)?;
+                Poiseuille::from_p(scene.u, b, p)
+            }
+        };
+        let (c0, c0_rule) = resolve_c0(&scene.c0, info, scene, &flow)?;
+        let t_end = match scene.t_end {
+            Some(t) => {
+                positive("t_end", t)?;
+                t
+            }
+            None => flow.decay_time(scene.decay_tol),
+        };
+        let output_interval = match scene.output_interval {
+            Some(dt) => {
+                positive("output_interval", dt)?;
+                dt
+            }
+            None => t_end / 20.0,
+        };
+        Ok(Problem {
+            scene: scene.clone(),
+            kernel: info,
+            lattice,
+            re: flow.re(),
+            rho0: scene.rho0,
+            mass: 0.5 * 3f64.sqrt() * d * d * scene.rho0,
+            mu: scene.rho0 * flow.nu,
+            flow,
+            c0,
+            c0_rule,
+            t_end,
+            output_interval,
+            initial: scene.initial,
+            v_limit: 10.0 * scene.u + c0,
+        })
+    }
+}
+
+fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("{v} must be a positive number")))
+    }
+}
+
+/// c0 for a base rule (factor 1), with the rule's canonical name.
+pub fn c0_by_rule(
+    rule: &C0Rule,
+    info: &KernelInfo,
+    scene: &Scene,
+    flow: &Poiseuille,
+) -> Result<(f64, String), SceneError> {
+    let n = f64::from(scene.n_layers);
+    match rule {
+        C0Rule::Rule10 => Ok((10.0 * scene.u, "rule10".into())),
+        C0Rule::Table2 => match &info.printed_c0 {
+            Some(row) => Ok((row.c0(scene.u, n, flow.p, scene.d, scene.alpha), "table2".into())),
+            None => Err(invalid(
+                "c0",
+                format!(
+                    "table2: kernel {} has no printed row in the paper's Table 2; use derived or rule10",
+                    info.name
+                ),
+            )),
+        },
+        C0Rule::Derived(name) => {
+            let model = match name {
+                None => info.default_c0_model(),
+                Some(m) => info.c0_model(m).ok_or_else(|| {
+                    let known: Vec<_> = info.c0_models.iter().map(|m| m.name).collect();
+                    invalid(
+                        "c0",
+                        format!("kernel {} has no c0 model {m:?}; its models: {}", info.name, known.join(", ")),
+                    )
+                })?,
+            };
+            Ok((
+                model.c0(scene.u, n, flow.p, scene.d, scene.alpha),
+                format!("derived:{}", model.name),
+            ))
+        }
+    }
+}
+
+/// All base rules for a kernel: every derived model, 10 U, and Table 2 when
+/// the paper prints a row for it.
+pub fn all_rules(info: &KernelInfo) -> Vec<C0Rule> {
+    let mut rules: Vec<C0Rule> = info
+        .c0_models
+        .iter()
+        .map(|m| C0Rule::Derived(Some(m.name.to_string())))
+        .collect();
+    rules.push(C0Rule::Rule10);
+    if info.printed_c0.is_some() {
+        rules.push(C0Rule::Table2);
+    }
+    rules
+}
+
+fn resolve_c0(
+    spec: &C0Spec,
+    info: &KernelInfo,
+    scene: &Scene,
+    flow: &Poiseuille,
+) -> Result<(f64, String), SceneError> {
+    let (c0, rule) = match spec {
+        C0Spec::Value(v) => (*v, "value".to_string()),
+        C0Spec::Rule { factor, rule } => {
+            positive("c0", *factor).map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
+            let (c0, name) = c0_by_rule(rule, info, scene, flow)?;
+            let name = if *factor == 1.0 { name } else { format!("{factor}*{name}") };
+            (factor * c0, name)
+        }
+    };
+    if c0 > 0.0 && c0.is_finite() {
+        Ok((c0, rule))
+    } else {
+        Err(invalid(
+            "c0",
+            format!("{spec} gives c0 = {c0} for this scene, which is not a positive sound speed; give a number"),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn c0_spec_round_trips() {
+        for s in ["3.5", "derived", "derived:full", "rule10", "table2", "0.5*derived", "0.01*rule10"] {
+            let spec: C0Spec = s.parse().unwrap();
+            assert_eq!(spec.to_string(), s);
+        }
+        assert!("2*nonsense".parse::<C0Spec>().is_err());
+        assert!("x*rule10".parse::<C0Spec>().is_err());
+        assert!("derived:".parse::<C0Spec>().is_err());
+    }
+
+    #[test]
+    fn builtin_scene_resolves() {
+        let scene = Scene::builtin();
+        let info = scene.kernel_info().unwrap();
+        let problem = Problem::new(&scene, info).unwrap();
+        assert!(problem.c0 > 0.0);
+        assert!((problem.re - 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn flags_override_and_re_p_exclude_each_other() {
+        let mut over = toml::Table::new();
+        over.insert("p".into(), toml::Value::Float(0.01));
+        let scene = Scene::load(None, over).unwrap();
+        assert_eq!((scene.re, scene.p), (None, Some(0.01)));
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let info = Scene::builtin().kernel_info().unwrap();
+        let check = |edit: &dyn Fn(&mut Scene), field: &str| {
+            let mut scene = Scene::builtin();
+            edit(&mut scene);
+            let err = Problem::new(&scene, info).unwrap_err().to_string();
+            assert!(err.contains(&format!("`{field}`")), "{err}");
+        };
+        check(&|s| s.n_layers = 2, "n_layers");
+        check(&|s| s.u = 0.0, "u");
+        check(&|s| s.re = Some(-1.0), "re");
+        check(&|s| s.d = -1.0, "d");
+        check(&|s| s.c0 = C0Spec::Value(0.0), "c0");
+        check(&|s| s.t_end = Some(0.0), "t_end");
+        check(&|s| s.alpha = 1.5, "alpha");
+        let err = kernel_info("nope").unwrap_err().to_string();
+        assert!(err.contains("monaghan"), "{err}");
+    }
+}

@@ -1,0 +1,125 @@
+//! The triangular lattice of section 2: layers dy = (sqrt 3 / 2) d apart,
+//! odd layers offset by d/2, fluid layers n = -(N-1) ..= N-1, wall layers
+//! beyond, in a periodic strip of whole columns just wider than the support.
+
+use serde::Serialize;
+
+/// Relative tolerance for "a lattice distance equals the support", the same
+/// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
+const CLOSED_TOL: f64 = 1e-9;
+
+/// Where the particles sit and how many there are.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Lattice {
+    /// Fluid half-width in layers: fluid layers |n| <= N - 1, B = N dy.
+    pub n_layers: u32,
+    pub d: f64,
+    pub h: f64,
+    /// Layer spacing (sqrt 3 / 2) d.
+    pub dy: f64,
+    /// Periodic strip: `columns` particles per layer, width = columns d.
+    pub columns: u32,
+    pub width: f64,
+    /// Wall layers on each side, at |n| = N .. N + wall_layers - 1.
+    pub wall_layers: u32,
+}
+
+impl Lattice {
+    /// The lattice for N layers, spacing d, smoothing length h and kernel
+    /// support R (in h).
+    ///
+    /// Width: the fewest whole columns wider than 2 R h, so no particle sees
+    /// two images of one neighbour. Walls: every layer within R h of the last
+    /// fluid layer n = N - 1 (closed support), and no more.
+    pub fn new(n_layers: u32, d: f64, h: f64, support: f64) -> Self {
+        let reach = support * h * (1.0 + CLOSED_TOL);
+        let dy = 0.5 * 3f64.sqrt() * d;
+        let columns = (2.0 * reach / d).floor() as u32 + 1;
+        let wall_layers = (reach / dy).floor() as u32;
+        Lattice {
+            n_layers,
+            d,
+            h,
+            dy,
+            columns,
+            width: f64::from(columns) * d,
+            wall_layers,
+        }
+    }
+
+    /// Half-width of the channel, B = N dy: the first wall layer.
+    pub fn b(&self) -> f64 {
+        f64::from(self.n_layers) * self.dy
+    }
+
+    pub fn fluid_layers(&self) -> u32 {
+        2 * self.n_layers - 1
+    }
+
+    pub fn n_fluid(&self) -> usize {
+        (self.fluid_layers() * self.columns) as usize
+    }
+
+    pub fn n_wall(&self) -> usize {
+        (2 * self.wall_layers * self.columns) as usize
+    }
+
+    pub fn n_particles(&self) -> usize {
+        self.n_fluid() + self.n_wall()
+    }
+
+    /// Layer indices in storage order: fluid layers bottom to top, then the
+    /// walls bottom then top. Particles of one layer are stored together.
+    pub fn layers(&self) -> impl Iterator<Item = i32> {
+        let n = self.n_layers as i32;
+        let m = self.wall_layers as i32;
+        (-(n - 1)..n).chain(-(n + m - 1)..=-n).chain(n..n + m)
+    }
+
+    /// Positions and layer index of every particle, in storage order.
+    pub fn positions(&self) -> (Vec<f64>, Vec<f64>, Vec<i32>) {
+        let cap = self.n_particles();
+        let (mut x, mut y, mut layer) = (Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap));
+        for n in self.layers() {
+            let offset = if n.rem_euclid(2) == 1 { 0.5 * self.d } else { 0.0 };
+            for c in 0..self.columns {
+                x.push(f64::from(c) * self.d + offset);
+                y.push(f64::from(n) * self.dy);
+                layer.push(n);
+            }
+        }
+        (x, y, layer)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strip_and_walls_fit_the_support() {
+        // R = 1, 2, 3 with h = d: widths 3, 5, 7; walls floor(R / dy) = 1, 2, 3.
+        for (r, cols, walls) in [(1.0, 3, 1), (2.0, 5, 2), (3.0, 7, 3)] {
+            let l = Lattice::new(10, 1.0, 1.0, r);
+            assert_eq!((l.columns, l.wall_layers), (cols, walls), "R = {r}");
+        }
+        // A support of exactly 2 dy reaches the second wall layer (closed).
+        let l = Lattice::new(10, 1.0, 3f64.sqrt() / 2.0, 2.0);
+        assert_eq!(l.wall_layers, 2);
+    }
+
+    #[test]
+    fn positions_cover_fluid_then_walls() {
+        let l = Lattice::new(4, 1.0, 1.0, 2.0);
+        let (x, y, layer) = l.positions();
+        assert_eq!(x.len(), l.n_particles());
+        assert_eq!(l.n_fluid(), 7 * 5);
+        assert!(layer[..l.n_fluid()].iter().all(|n| n.abs() < 4));
+        assert!(layer[l.n_fluid()..].iter().all(|n| n.abs() >= 4));
+        let b = l.b();
+        assert!(y[..l.n_fluid()].iter().all(|y| y.abs() < b));
+        // Odd layers are offset by d / 2.
+        let first_odd = layer.iter().position(|&n| n == 1).unwrap();
+        assert_eq!(x[first_odd], 0.5);
+    }
+}

@@ -1,0 +1,389 @@
+//! The particle state (structure of arrays) and the passes of one step:
+//! kick-drift, density by summation with the EOS, forces with the closing
+//! kick. Each pass is a gather over the neighbour list, parallel over fixed
+//! chunks of particles; a particle's sums run in its list's order, so results
+//! do not depend on the thread count.
+
+use rayon::prelude::*;
+
+use super::lattice::Lattice;
+use super::neighbours::NeighbourList;
+use crate::kernel::Kernel;
+use crate::scene::{Initial, PressureForm, Problem};
+
+/// Particles per parallel task: large enough that a task outweighs rayon's
+/// overhead on the small scenes this problem needs.
+const CHUNK: usize = 128;
+
+/// Fluid particles come first (indices < n_fluid), the fixed walls after.
+pub(crate) struct State {
+    pub n_fluid: usize,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    /// Velocity: v(t) between steps, v(t + dt/2) inside one. Zero on walls.
+    pub vx: Vec<f64>,
+    pub vy: Vec<f64>,
+    /// The velocity the forces see, v(t) + dt a(t), a prediction of
+    /// v(t + dt) (viscosity and artificial viscosity depend on it).
+    pub vpx: Vec<f64>,
+    pub vpy: Vec<f64>,
+    /// Acceleration of the fluid particles.
+    pub ax: Vec<f64>,
+    pub ay: Vec<f64>,
+    pub rho: Vec<f64>,
+    pub press: Vec<f64>,
+    /// m / rho and P / rho^2, per particle, so the pair loops do not divide.
+    pub vol: Vec<f64>,
+    pub p_rho2: Vec<f64>,
+    /// Fluid positions at the last neighbour-list rebuild.
+    pub x0: Vec<f64>,
+    pub y0: Vec<f64>,
+    /// Layer each particle started in.
+    pub layer: Vec<i32>,
+}
+
+impl State {
+    pub fn new(lattice: &Lattice, problem: &Problem) -> Self {
+        let (x, y, layer) = lattice.positions();
+        let n = x.len();
+        let n_fluid = lattice.n_fluid();
+        let mut vx = vec![0.0; n];
+        if problem.initial == Initial::Steady {
+            for i in 0..n_fluid {
+                vx[i] = problem.flow.steady(y[i]);
+            }
+        }
+        State {
+            n_fluid,
+            vpx: vx.clone(),
+            vx,
+            vy: vec![0.0; n],
+            vpy: vec![0.0; n],
+            ax: vec![0.0; n_fluid],
+            ay: vec![0.0; n_fluid],
+            rho: vec![problem.rho0; n],
+            press: vec![0.0; n],
+            vol: vec![0.0; n],
+            p_rho2: vec![0.0; n],
+            x0: x[..n_fluid].to_vec(),
+            y0: y[..n_fluid].to_vec(),
+            x,
+            y,
+            layer,
+        }
+    }
+
+    /// Wrap the fluid into the strip and take the current positions as the
+    /// reference for the rebuild rule.
+    pub fn wrap(&mut self, width: f64) {
+        for i in 0..self.n_fluid {
+            self.x[i] = self.x[i].rem_euclid(width);
+        }
+        self.x0.copy_from_slice(&self.x[..self.n_fluid]);
+        self.y0.copy_from_slice(&self.y[..self.n_fluid]);
+    }
+}
+
+/// Everything the pair loops need, with the h powers folded in once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Params {
+    pub width: f64,
+    pub inv_h2: f64,
+    /// m / h^2: rho = (m / h^2) sum w(q^2).
+    pub mass_over_h2: f64,
+    pub mass: f64,
+    pub rho0: f64,
+    /// rho0 c0^2 / gamma.
+    pub b_eos: f64,
+    pub gamma: f64,
+    pub allow_negative: bool,
+    pub symmetric: bool,
+    /// grad_i W_ij = (dw_over_q / h^4) r_ij.
+    pub grad_scale: f64,
+    /// alpha c0 h m (31).
+    pub av: f64,
+    /// 2 mu (the Laplacian (14) with the right sign).
+    pub visc: f64,
+    /// Body force along +x.
+    pub body: f64,
+}
+
+impl Params {
+    pub fn new(problem: &Problem) -> Self {
+        let h = problem.lattice.h;
+        Params {
+            width: problem.lattice.width,
+            inv_h2: 1.0 / (h * h),
+            mass_over_h2: problem.mass / (h * h),
+            mass: problem.mass,
+            rho0: problem.rho0,
+            b_eos: problem.rho0 * problem.c0 * problem.c0 / problem.scene.gamma,
+            gamma: problem.scene.gamma,
+            allow_negative: problem.scene.allow_negative_pressure,
+            symmetric: problem.scene.pressure_form == PressureForm::Symmetric,
+            grad_scale: 1.0 / (h * h * h * h),
+            av: problem.scene.alpha * problem.c0 * h * problem.mass,
+            visc: 2.0 * problem.mu,
+            body: problem.flow.p,
+        }
+    }
+
+    /// EOS (13): P = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1), no tension
+    /// unless allowed.
+    #[inline]
+    fn pressure(&self, rho: f64) -> f64 {
+        let ratio = rho / self.rho0;
+        let compression = if self.gamma == 1.0 {
+            ratio - 1.0
+        } else {
+            ratio.powf(self.gamma) - 1.0
+        };
+        let p = self.b_eos * compression;
+        if self.allow_negative {
+            p
+        } else {
+            p.max(0.0)
+        }
+    }
+}
+
+/// What the kick-drift saw: the bounding box of the fluid's displacements
+/// since the last rebuild (it always holds the walls' zero), and how far
+/// from the centre line the fluid reached.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Drift {
+    pub dx_min: f64,
+    pub dx_max: f64,
+    pub dy_min: f64,
+    pub dy_max: f64,
+    pub max_abs_y: f64,
+}
+
+impl Drift {
+    const NONE: Drift = Drift {
+        dx_min: 0.0,
+        dx_max: 0.0,
+        dy_min: 0.0,
+        dy_max: 0.0,
+        max_abs_y: 0.0,
+    };
+
+    fn merge(self, o: Drift) -> Drift {
+        Drift {
+            dx_min: self.dx_min.min(o.dx_min),
+            dx_max: self.dx_max.max(o.dx_max),
+            dy_min: self.dy_min.min(o.dy_min),
+            dy_max: self.dy_max.max(o.dy_max),
+            max_abs_y: self.max_abs_y.max(o.max_abs_y),
+        }
+    }
+
+    /// Largest possible change of any pair distance since the rebuild.
+    pub fn spread(&self) -> f64 {
+        (self.dx_max - self.dx_min).hypot(self.dy_max - self.dy_min)
+    }
+}
+
+/// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
+/// v + dt/2 a of the end-of-step velocity for the forces.
+pub(crate) fn kick_drift(s: &mut State, dt: f64) -> Drift {
+    let nf = s.n_fluid;
+    let half = 0.5 * dt;
+    (
+        s.x[..nf].par_chunks_mut(CHUNK),
+        s.y[..nf].par_chunks_mut(CHUNK),
+        s.vx[..nf].par_chunks_mut(CHUNK),
+        s.vy[..nf].par_chunks_mut(CHUNK),
+        s.vpx[..nf].par_chunks_mut(CHUNK),
+        s.vpy[..nf].par_chunks_mut(CHUNK),
+        s.ax.par_chunks(CHUNK),
+        s.ay.par_chunks(CHUNK),
+        s.x0.par_chunks(CHUNK),
+        s.y0.par_chunks(CHUNK),
+    )
+        .into_par_iter()
+        .map(|(x, y, vx, vy, vpx, vpy, ax, ay, x0, y0)| {
+            let mut d = Drift::NONE;
+            for k in 0..x.len() {
+                vx[k] += half * ax[k];
+                vy[k] += half * ay[k];
+                x[k] += dt * vx[k];
+                y[k] += dt * vy[k];
+                vpx[k] = vx[k] + half * ax[k];
+                vpy[k] = vy[k] + half * ay[k];
+                let (ddx, ddy) = (x[k] - x0[k], y[k] - y0[k]);
+                d.dx_min = d.dx_min.min(ddx);
+                d.dx_max = d.dx_max.max(ddx);
+                d.dy_min = d.dy_min.min(ddy);
+                d.dy_max = d.dy_max.max(ddy);
+                // NaN compares false, so make it show here too.
+                let ay_abs = y[k].abs();
+                d.max_abs_y = if ay_abs.is_nan() { f64::INFINITY } else { d.max_abs_y.max(ay_abs) };
+            }
+            d
+        })
+        .reduce(|| Drift::NONE, Drift::merge)
+}
+
+/// Density by summation (11) over fluid and wall neighbours, self included,
+/// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
+/// fluid.
+pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
+    let (x, y, nf) = (&s.x, &s.y, s.n_fluid);
+    let w_self = K::w(0.0);
+    (
+        s.rho.par_chunks_mut(CHUNK),
+        s.press.par_chunks_mut(CHUNK),
+        s.vol.par_chunks_mut(CHUNK),
+        s.p_rho2.par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, (rho, press, vol, p_rho2))| {
+            let mut max_eps = f64::NEG_INFINITY;
+            for k in 0..rho.len() {
+                let i = c * CHUNK + k;
+                let (xi, yi) = (x[i], y[i]);
+                let (index, shift) = list.of(i);
+                let mut sum = w_self;
+                for (&j, &sh) in index.iter().zip(shift) {
+                    let j = j as usize;
+                    let dx = xi - x[j] + f64::from(sh) * prm.width;
+                    let dy = yi - y[j];
+                    let q2 = (dx * dx + dy * dy) * prm.inv_h2;
+                    if q2 <= K::SUPPORT2_CLOSED {
+                        sum += K::w(q2);
+                    }
+                }
+                let r = prm.mass_over_h2 * sum;
+                let p = prm.pressure(r);
+                rho[k] = r;
+                press[k] = p;
+                vol[k] = prm.mass / r;
+                p_rho2[k] = p / (r * r);
+                if i < nf {
+                    max_eps = max_eps.max(r / prm.rho0 - 1.0);
+                }
+            }
+            max_eps
+        })
+        .reduce(|| f64::NEG_INFINITY, f64::max)
+}
+
+/// What the force pass saw at the end of the step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Forces {
+    /// Largest |v| and |a| of the fluid.
+    pub v_max: f64,
+    pub a_max: f64,
+    /// false when any velocity or acceleration is NaN or infinite.
+    pub finite: bool,
+}
+
+impl Forces {
+    const NONE: Forces = Forces {
+        v_max: 0.0,
+        a_max: 0.0,
+        finite: true,
+    };
+
+    fn merge(self, o: Forces) -> Forces {
+        Forces {
+            v_max: self.v_max.max(o.v_max),
+            a_max: self.a_max.max(o.a_max),
+            finite: self.finite && o.finite,
+        }
+    }
+}
+
+/// Accelerations of the fluid, then the closing kick v += dt/2 a.
+///
+/// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
+///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
+/// - artificial viscosity (31): (alpha c0 h m / rho_i) sum over approaching
+///   pairs of (v_ij . r_ij) / r_ij^2 grad_i W_ij, repulsive;
+/// - viscosity, the Laplacian (14) with the right sign on both components:
+///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij;
+/// - the body force p along +x.
+pub(crate) fn forces<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+    if prm.symmetric {
+        forces_with::<K, true>(s, list, prm, half_dt)
+    } else {
+        forces_with::<K, false>(s, list, prm, half_dt)
+    }
+}
+
+fn forces_with<K: Kernel, const SYMMETRIC: bool>(
+    s: &mut State,
+    list: &NeighbourList,
+    prm: &Params,
+    half_dt: f64,
+) -> Forces {
+    let nf = s.n_fluid;
+    let (x, y, vpx, vpy) = (&s.x, &s.y, &s.vpx, &s.vpy);
+    let (rho, press, vol, p_rho2) = (&s.rho, &s.press, &s.vol, &s.p_rho2);
+    (
+        s.ax.par_chunks_mut(CHUNK),
+        s.ay.par_chunks_mut(CHUNK),
+        s.vx[..nf].par_chunks_mut(CHUNK),
+        s.vy[..nf].par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, (ax, ay, vx, vy))| {
+            let mut out = Forces::NONE;
+            for k in 0..ax.len() {
+                let i = c * CHUNK + k;
+                let (xi, yi, vxi, vyi) = (x[i], y[i], vpx[i], vpy[i]);
+                let (pi, pri) = (press[i], p_rho2[i]);
+                let (mut px, mut py) = (0.0, 0.0);
+                let (mut avx, mut avy) = (0.0, 0.0);
+                let (mut lx, mut ly) = (0.0, 0.0);
+                let (index, shift) = list.of(i);
+                for (&j, &sh) in index.iter().zip(shift) {
+                    let j = j as usize;
+                    let dx = xi - x[j] + f64::from(sh) * prm.width;
+                    let dy = yi - y[j];
+                    let r2 = dx * dx + dy * dy;
+                    let q2 = r2 * prm.inv_h2;
+                    if q2 > K::SUPPORT2_CLOSED {
+                        continue;
+                    }
+                    // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
+                    let g = K::dw_over_q(q2);
+                    let pij = if SYMMETRIC { pri + p_rho2[j] } else { pi + press[j] };
+                    px += pij * g * dx;
+                    py += pij * g * dy;
+                    let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
+                    let vr = dvx * dx + dvy * dy;
+                    if vr < 0.0 {
+                        let f = vr / r2 * g;
+                        avx += f * dx;
+                        avy += f * dy;
+                    }
+                    let f = vol[j] * g;
+                    lx += f * dvx;
+                    ly += f * dvy;
+                }
+                let inv_rho = 1.0 / rho[i];
+                let p_scale = if SYMMETRIC { prm.mass } else { prm.mass * inv_rho * inv_rho };
+                let av = prm.av * inv_rho;
+                let visc = prm.visc * inv_rho;
+                let axi = prm.grad_scale * (-p_scale * px + av * avx + visc * lx) + prm.body;
+                let ayi = prm.grad_scale * (-p_scale * py + av * avy + visc * ly);
+                ax[k] = axi;
+                ay[k] = ayi;
+                vx[k] += half_dt * axi;
+                vy[k] += half_dt * ayi;
+                let a2 = axi * axi + ayi * ayi;
+                let v2 = vx[k] * vx[k] + vy[k] * vy[k];
+                out.finite &= (a2 + v2).is_finite();
+                out.a_max = out.a_max.max(a2);
+                out.v_max = out.v_max.max(v2);
+            }
+            out.a_max = out.a_max.sqrt();
+            out.v_max = out.v_max.sqrt();
+            out
+        })
+        .reduce(|| Forces::NONE, Forces::merge)
+}
