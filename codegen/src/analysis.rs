@@ -81,7 +81,13 @@ impl Default for Options {
 }
 
 fn compare(what: &str, printed: &str, ours: &Float, digits: usize) -> Compared {
-    let p = parse_decimal(printed.trim_start_matches('-')).map(|x| if printed.starts_with('-') { -x } else { x });
+    let p = parse_decimal(printed.trim_start_matches('-')).map(|x| {
+        if printed.starts_with('-') {
+            -x
+        } else {
+            x
+        }
+    });
     let decimals = printed.split_once('.').map(|(_, f)| f.len()).unwrap_or(0);
     let scale = Float::with_val(ours.prec(), 10u32).pow(decimals as u32);
     use rug::ops::Pow;
@@ -155,7 +161,9 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     facts.push(Fact {
         name: "gradient vanishes at R".into(),
         holds: dw_r.is_zero(),
-        detail: format!("W'(R) = {dw_r}; with a closed support, neighbours at exactly q = R feel it"),
+        detail: format!(
+            "W'(R) = {dw_r}; with a closed support, neighbours at exactly q = R feel it"
+        ),
     });
     let mut joints_ok = true;
     for pair in def.dw.pieces.windows(2) {
@@ -203,7 +211,9 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     facts.push(Fact {
         name: "even in q (no square root needed)".into(),
         holds: def.w.is_even() && def.dw.pieces.iter().all(|p| p.poly.is_odd()),
-        detail: "W has only even powers of q and W' only odd ones, so W and W'/q are polynomials in q^2".into(),
+        detail:
+            "W has only even powers of q and W' only odd ones, so W and W'/q are polynomials in q^2"
+                .into(),
     });
 
     // --- compaction for the centre particle
@@ -215,7 +225,10 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     let half_known = Known::exact(eps_half.clone(), prec, "exact lattice sum");
     // The search's result is recognised as the exact configuration when it
     // lands there (to half the working precision in tau, all of it in eps).
-    let recognise = |e: &compaction::Extreme, at: &Rational, exact: &Known| -> Option<(Known, Known)> {
+    let recognise = |e: &compaction::Extreme,
+                     at: &Rational,
+                     exact: &Known|
+     -> Option<(Known, Known)> {
         let tau_err = Float::with_val(prec, &e.tau - at).abs();
         let val_err = Float::with_val(prec, &e.value - &exact.value).abs();
         let tau_tol = Float::with_val(prec, Float::i_exp(1, -((prec / 3) as i32)));
@@ -251,7 +264,10 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     let zero = Rational::new();
     let (max, t_max) = recognise(&mx, &half, &half_known).unwrap_or_else(|| searched(&mx));
     let (min, t_min) = recognise(&mn, &zero, &t0_known)
-        .or_else(|| recognise(&mn, &Rational::from(1), &t0_known).map(|(v, _)| (v, Known::exact(Exact::zero(), prec, "exact"))))
+        .or_else(|| {
+            recognise(&mn, &Rational::from(1), &t0_known)
+                .map(|(v, _)| (v, Known::exact(Exact::zero(), prec, "exact")))
+        })
         .unwrap_or_else(|| searched(&mn));
     let mean = compaction::mean(&def.w, r, Site::CENTRE, prec);
 
@@ -275,7 +291,14 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     let mut amp_bad = Vec::new();
     let mut amps = Vec::new();
     for n in 1..=(nl - rr) {
-        let (a, _, _) = amplitude(&frc, def, Site { n, n_layers: Some(nl) });
+        let (a, _, _) = amplitude(
+            &frc,
+            def,
+            Site {
+                n,
+                n_layers: Some(nl),
+            },
+        );
         amps.push(format!("n={n}: {:.6e}", a));
         if ((a - amp0) / amp0).abs() > 1e-9 {
             amp_bad.push(n);
@@ -297,11 +320,29 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     });
     let mut mean_bad = Vec::new();
     let mut means = Vec::new();
-    let mean1 = compaction::mean(&def.w, r, Site { n: nl - rr, n_layers: Some(nl) }, check_prec);
+    let mean1 = compaction::mean(
+        &def.w,
+        r,
+        Site {
+            n: nl - rr,
+            n_layers: Some(nl),
+        },
+        check_prec,
+    );
     for n in 1..=(nl - rr) {
-        let m = compaction::mean(&def.w, r, Site { n, n_layers: Some(nl) }, check_prec);
+        let m = compaction::mean(
+            &def.w,
+            r,
+            Site {
+                n,
+                n_layers: Some(nl),
+            },
+            check_prec,
+        );
         means.push(format!("n={n}: {}", decimal(&m.value, 8)));
-        let d = Float::with_val(check_prec, &m.value - &mean1.value).abs().to_f64();
+        let d = Float::with_val(check_prec, &m.value - &mean1.value)
+            .abs()
+            .to_f64();
         if d > 1e-20 {
             mean_bad.push(n);
         }
@@ -321,10 +362,20 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
             }
         ),
     });
-    let (amp_wall, _, _) = amplitude(&frc, def, Site { n: nl - 1, n_layers: Some(nl) });
+    let (amp_wall, _, _) = amplitude(
+        &frc,
+        def,
+        Site {
+            n: nl - 1,
+            n_layers: Some(nl),
+        },
+    );
     let drops = amp_wall < amp0 * (1.0 - 1e-9);
     claims.push(Fact {
-        name: format!("amplitude drops near the wall (n = N - 1 = {}) when R > 1", nl - 1),
+        name: format!(
+            "amplitude drops near the wall (n = N - 1 = {}) when R > 1",
+            nl - 1
+        ),
         holds: if kmax > 1 { drops } else { !drops },
         detail: format!(
             "amplitude at n = N - 1: {:.6e}, at n = 0: {:.6e} (ratio {:.4})",
@@ -344,20 +395,56 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
     let mut table1 = Vec::new();
     let mut table2 = Vec::new();
     if let Some(p) = &def.paper {
-        table1.push(compare("eps(0T)", &p.table1.t0, &t0_known.value, opts.digits));
-        table1.push(compare("eps(0.5T)", &p.table1.half_period, &half_known.value, opts.digits));
-        table1.push(compare("mean eps", &p.table1.mean, &mean.value, opts.digits));
+        table1.push(compare(
+            "eps(0T)",
+            &p.table1.t0,
+            &t0_known.value,
+            opts.digits,
+        ));
+        table1.push(compare(
+            "eps(0.5T)",
+            &p.table1.half_period,
+            &half_known.value,
+            opts.digits,
+        ));
+        table1.push(compare(
+            "mean eps",
+            &p.table1.mean,
+            &mean.value,
+            opts.digits,
+        ));
         if let Some(t2) = &p.table2 {
             table2.push(compare("eps0", &t2.eps0, &half_known.value, opts.digits));
             let f = parse_decimal(&t2.factor).expect("printed factor is a number");
             let f = Float::with_val(prec, &f);
             for d in &models {
                 let s = Float::with_val(prec, d.s.to_float(prec) / &f);
-                let pp = Float::with_val(prec, d.p.to_float(prec) / Float::with_val(prec, f.square_ref()));
-                let q = Float::with_val(prec, d.q.to_float(prec) / Float::with_val(prec, f.square_ref()));
-                table2.push(compare(&format!("S/F [{}]", d.model.name), &t2.s, &s, opts.digits));
-                table2.push(compare(&format!("P/F^2 [{}]", d.model.name), &t2.p, &pp, opts.digits));
-                table2.push(compare(&format!("Q/F^2 [{}]", d.model.name), &t2.q, &q, opts.digits));
+                let pp = Float::with_val(
+                    prec,
+                    d.p.to_float(prec) / Float::with_val(prec, f.square_ref()),
+                );
+                let q = Float::with_val(
+                    prec,
+                    d.q.to_float(prec) / Float::with_val(prec, f.square_ref()),
+                );
+                table2.push(compare(
+                    &format!("S/F [{}]", d.model.name),
+                    &t2.s,
+                    &s,
+                    opts.digits,
+                ));
+                table2.push(compare(
+                    &format!("P/F^2 [{}]", d.model.name),
+                    &t2.p,
+                    &pp,
+                    opts.digits,
+                ));
+                table2.push(compare(
+                    &format!("Q/F^2 [{}]", d.model.name),
+                    &t2.q,
+                    &q,
+                    opts.digits,
+                ));
             }
         }
     }

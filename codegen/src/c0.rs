@@ -138,7 +138,7 @@ pub fn terms(w: &Radial, dw: &Radial, support: &Rational, config: Config) -> Vec
             let v = if nb.k > 0 { &k2 * &f } else { Exact::zero() };
             let av = if nb.k > 0 && nb.x > 0 {
                 // 2 k^2 x^2 W'/r^3 = 2 k^2 x^2 (W'/r) / r^2
-                (&(&Exact::int(2) * &(&k2 * &g)))
+                (&Exact::int(2) * &(&k2 * &g))
                     .div_monomial(&Exact::rational(nb.r2.clone()))
                     .unwrap()
             } else {
@@ -193,7 +193,11 @@ pub fn derive(model: Model, eps0: &Exact, s0: &Sums, s1: &Sums) -> Derivation {
         Carrier::Pair => &s1.pair,
     };
     let a = eps0 * k;
-    let av_max = if model.av_at_max { s1.av.clone() } else { Exact::zero() };
+    let av_max = if model.av_at_max {
+        s1.av.clone()
+    } else {
+        Exact::zero()
+    };
     let b = &one_eps * &(&s0.av - &av_max);
     let three_halves = Exact::rational(Rational::from((3, 2)));
     let c = &(&s1.g - &(&three_halves * &s1.v)) + &(&one_eps * &(&(&three_halves * &s0.v) - &s0.g));

@@ -100,7 +100,10 @@ pub struct Site {
 }
 
 impl Site {
-    pub const CENTRE: Site = Site { n: 0, n_layers: None };
+    pub const CENTRE: Site = Site {
+        n: 0,
+        n_layers: None,
+    };
 }
 
 /// eps(t, n) as a function of tau = t/T, evaluable in f64 and at high
@@ -204,7 +207,12 @@ pub fn extremes(curve: &EpsCurve) -> (Extreme, Extreme) {
         cands.truncate(8);
         let mut out: Option<Extreme> = None;
         for (_, i) in cands {
-            let e = golden(curve, (i as f64 - 1.0) / samples as f64, (i as f64 + 1.0) / samples as f64, sign);
+            let e = golden(
+                curve,
+                (i as f64 - 1.0) / samples as f64,
+                (i as f64 + 1.0) / samples as f64,
+                sign,
+            );
             let better = match &out {
                 None => true,
                 Some(o) => {
@@ -312,7 +320,11 @@ pub fn line_integral(w: &Radial, y2: &Rational, prec: u32) -> (Float, Exact, Flo
             continue;
         }
         // x from sqrt(max(a^2 - y2, 0)) to sqrt(b^2 - y2); both halves of the line
-        let x0sq = if a2 > *y2 { Rational::from(&a2 - y2) } else { Rational::new() };
+        let x0sq = if a2 > *y2 {
+            Rational::from(&a2 - y2)
+        } else {
+            Rational::new()
+        };
         let x1sq = Rational::from(&b2 - y2);
         if p.poly.is_even() {
             // p(q) = sum c_2m (x^2 + y2)^m: a polynomial in x
@@ -337,7 +349,8 @@ pub fn line_integral(w: &Radial, y2: &Rational, prec: u32) -> (Float, Exact, Flo
             let y = Float::with_val(prec, y2).sqrt();
             let coef: Vec<Float> = p.poly.coef.iter().map(|c| c.to_float(prec)).collect();
             let f = |x: &Float| {
-                let q = Float::with_val(prec, Float::with_val(prec, x.square_ref()) + &y2.clone()).sqrt();
+                let q = Float::with_val(prec, Float::with_val(prec, x.square_ref()) + &y2.clone())
+                    .sqrt();
                 let mut acc = Float::with_val(prec, 0);
                 for c in coef.iter().rev() {
                     acc *= &q;
@@ -347,11 +360,14 @@ pub fn line_integral(w: &Radial, y2: &Rational, prec: u32) -> (Float, Exact, Flo
             };
             // sub-intervals no longer than y/2 keep the singularities at x = +-i y far away
             let span = Float::with_val(prec, &hi - &lo);
-            let pieces = (span.to_f64() / (0.5 * y.to_f64().max(1e-3))).ceil().max(1.0) as u32;
+            let pieces = (span.to_f64() / (0.5 * y.to_f64().max(1e-3)))
+                .ceil()
+                .max(1.0) as u32;
             let (coarse, fine) = (gauss_legendre(24, prec), gauss_legendre(48, prec));
             for s in 0..pieces {
                 let a = Float::with_val(prec, &lo + Float::with_val(prec, &span * s) / pieces);
-                let b = Float::with_val(prec, &lo + Float::with_val(prec, &span * (s + 1)) / pieces);
+                let b =
+                    Float::with_val(prec, &lo + Float::with_val(prec, &span * (s + 1)) / pieces);
                 let i1 = integrate(&f, &a, &b, &coarse, prec);
                 let i2 = integrate(&f, &a, &b, &fine, prec);
                 err += Float::with_val(prec, &i2 - &i1).abs() * 2u32;
@@ -363,7 +379,13 @@ pub fn line_integral(w: &Radial, y2: &Rational, prec: u32) -> (Float, Exact, Flo
     (value, exact, err)
 }
 
-fn integrate(f: &dyn Fn(&Float) -> Float, a: &Float, b: &Float, rule: &[(Float, Float)], prec: u32) -> Float {
+fn integrate(
+    f: &dyn Fn(&Float) -> Float,
+    a: &Float,
+    b: &Float,
+    rule: &[(Float, Float)],
+    prec: u32,
+) -> Float {
     let half = Float::with_val(prec, b - a) / 2u32;
     let mid = Float::with_val(prec, b + a) / 2u32;
     let mut acc = Float::with_val(prec, 0);
@@ -388,7 +410,8 @@ pub fn gauss_legendre(n: usize, prec: u32) -> Vec<(Float, Float)> {
             let mut p0 = Float::with_val(prec, 1);
             let mut p1 = x.clone();
             for j in 2..=n {
-                let p2 = (Float::with_val(prec, &x * &p1) * (2 * j - 1) as u32 - Float::with_val(prec, &p0 * (j - 1) as u32))
+                let p2 = (Float::with_val(prec, &x * &p1) * (2 * j - 1) as u32
+                    - Float::with_val(prec, &p0 * (j - 1) as u32))
                     / j as u32;
                 p0 = p1;
                 p1 = p2;
@@ -403,7 +426,8 @@ pub fn gauss_legendre(n: usize, prec: u32) -> Vec<(Float, Float)> {
             }
         }
         let x2 = Float::with_val(prec, x.square_ref());
-        let wgt = Float::with_val(prec, 2) / (Float::with_val(prec, 1u32 - x2) * Float::with_val(prec, dp.square_ref()));
+        let wgt = Float::with_val(prec, 2)
+            / (Float::with_val(prec, 1u32 - x2) * Float::with_val(prec, dp.square_ref()));
         out.push((x, wgt));
     }
     out

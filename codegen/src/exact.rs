@@ -461,7 +461,8 @@ mod tests {
         assert_eq!(c.as_rational(), Some(Rational::from((15, 7))));
         let v = a.to_float(100).to_f64();
         assert!((v - (2.0 + 15.0 / 7.0 / std::f64::consts::PI)).abs() < 1e-15);
-        let s6 = &Exact::sqrt_rational(&Rational::from(2)) * &Exact::sqrt_rational(&Rational::from(3));
+        let s6 =
+            &Exact::sqrt_rational(&Rational::from(2)) * &Exact::sqrt_rational(&Rational::from(3));
         assert_eq!(s6.to_string(), "sqrt(6)");
     }
 

@@ -36,7 +36,11 @@ impl fmt::Display for KernelError {
         if let Some((l, c)) = self.at {
             write!(f, ":{l}:{c}")?;
         }
-        write!(f, ": field `{}`: {}\n  fix: {}", self.field, self.message, self.fix)
+        write!(
+            f,
+            ": field `{}`: {}\n  fix: {}",
+            self.field, self.message, self.fix
+        )
     }
 }
 
@@ -169,7 +173,12 @@ struct PieceFile {
 fn line_col(src: &str, byte: usize) -> (usize, usize) {
     let before = &src[..byte.min(src.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before.rsplit('\n').next().map(|s| s.chars().count()).unwrap_or(0) + 1;
+    let col = before
+        .rsplit('\n')
+        .next()
+        .map(|s| s.chars().count())
+        .unwrap_or(0)
+        + 1;
     (line, col)
 }
 
@@ -179,7 +188,13 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn err(&self, field: &str, span: Option<std::ops::Range<usize>>, message: String, fix: &str) -> KernelError {
+    fn err(
+        &self,
+        field: &str,
+        span: Option<std::ops::Range<usize>>,
+        message: String,
+        fix: &str,
+    ) -> KernelError {
         KernelError {
             file: self.file.to_path_buf(),
             field: field.to_string(),
@@ -215,11 +230,16 @@ impl Ctx<'_> {
         };
         match v.get_ref() {
             toml::Value::Integer(i) => Ok(Rational::from(*i)),
-            toml::Value::String(s) => parse_rational(s).ok_or_else(|| bad(format!("`{s}` is not an exact number"))),
+            toml::Value::String(s) => {
+                parse_rational(s).ok_or_else(|| bad(format!("`{s}` is not an exact number")))
+            }
             toml::Value::Float(x) => Err(bad(format!(
                 "{x} is a floating-point number; supports and piece ends must be exact"
             ))),
-            other => Err(bad(format!("expected a number, found {}", other.type_str()))),
+            other => Err(bad(format!(
+                "expected a number, found {}",
+                other.type_str()
+            ))),
         }
     }
 
@@ -255,7 +275,9 @@ impl Ctx<'_> {
                     "list the pieces in increasing order of q, each `to` larger than the one before",
                 ));
             }
-            let poly = self.formula(&format!("{field}[{i}].expr"), &p.expr)?.mul(&factor);
+            let poly = self
+                .formula(&format!("{field}[{i}].expr"), &p.expr)?
+                .mul(&factor);
             pieces.push(Piece {
                 from: from.clone(),
                 to: to.clone(),
@@ -292,7 +314,9 @@ pub fn parse_kernel(file: &Path, src: &str) -> Result<KernelDef, KernelError> {
     })?;
     let name = raw.name.get_ref().clone();
     let valid_name = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-        && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !valid_name {
         return Err(ctx.err(
             "name",
@@ -320,7 +344,10 @@ pub fn parse_kernel(file: &Path, src: &str) -> Result<KernelDef, KernelError> {
     }
     let w = ctx.pieces("w", &raw.w, &raw.scale, "scale", &support)?;
     let (dw, dw_given) = match &raw.dw {
-        Some(list) => (ctx.pieces("dw", list, &raw.dw_scale, "dw_scale", &support)?, true),
+        Some(list) => (
+            ctx.pieces("dw", list, &raw.dw_scale, "dw_scale", &support)?,
+            true,
+        ),
         None => {
             if let Some(s) = &raw.dw_scale {
                 return Err(ctx.err(
@@ -448,7 +475,11 @@ pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
                 file: f.clone(),
                 field: "name".into(),
                 at: None,
-                message: format!("duplicate kernel name `{}`, also in {}", def.name, other.file.display()),
+                message: format!(
+                    "duplicate kernel name `{}`, also in {}",
+                    def.name,
+                    other.file.display()
+                ),
                 fix: "give every kernel its own name".into(),
             });
         }

@@ -49,7 +49,7 @@ impl Config {
 pub fn max_layer_offset(support: &Rational) -> i64 {
     let r2x4 = Rational::from(support * support) * 4;
     let mut k = 0i64;
-    while Rational::from(3 * (k + 1) * (k + 1)) <= r2x4 {
+    while 3 * (k + 1) * (k + 1) <= r2x4 {
         k += 1;
     }
     k
@@ -114,7 +114,12 @@ mod tests {
         let half = stencil(&one, Config::Half);
         // self, 2 in the own layer at x = -1, 1, and 2 straight above/below
         assert_eq!(half.len(), 5);
-        assert_eq!(half.iter().filter(|n| n.r2 == Rational::from((3, 4))).count(), 2);
+        assert_eq!(
+            half.iter()
+                .filter(|n| n.r2 == Rational::from((3, 4)))
+                .count(),
+            2
+        );
     }
 
     #[test]

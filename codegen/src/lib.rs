@@ -11,6 +11,7 @@
 pub mod analysis;
 pub mod c0;
 pub mod compaction;
+pub mod emit;
 pub mod exact;
 pub mod kernel;
 pub mod lattice;

@@ -1,6 +1,6 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use shearsph_codegen::{analysis, kernel, show};
+use shearsph_codegen::{analysis, emit, kernel, show};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -17,6 +17,18 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Write generated/ from kernels/*.toml (all or nothing: one bad kernel changes nothing).
+    Generate {
+        /// Output folder.
+        #[arg(long, default_value = "generated")]
+        out: PathBuf,
+    },
+    /// Exit non-zero, naming the stale files, when generated/ differs from what generate would write.
+    Check {
+        /// Folder to check.
+        #[arg(long, default_value = "generated")]
+        out: PathBuf,
+    },
     /// Print the derivation for one kernel.
     Show {
         /// Kernel name (a file kernels/NAME.toml).
@@ -45,6 +57,36 @@ fn main() -> std::process::ExitCode {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
+        Cmd::Generate { out } => {
+            let start = Instant::now();
+            let files = render_all(&cli.kernels)?;
+            let changed = emit::ensure(&out, &files, false)
+                .with_context(|| format!("writing {}", out.display()))?;
+            for p in &changed {
+                eprintln!("wrote {}", p.display());
+            }
+            eprintln!(
+                "{} file(s) in {}, {} changed, in {:.2} s",
+                files.len(),
+                out.display(),
+                changed.len(),
+                start.elapsed().as_secs_f64()
+            );
+        }
+        Cmd::Check { out } => {
+            let files = render_all(&cli.kernels)?;
+            let stale = emit::ensure(&out, &files, true)?;
+            if !stale.is_empty() {
+                let list: Vec<String> =
+                    stale.iter().map(|p| format!("  {}", p.display())).collect();
+                bail!(
+                    "generated code is stale:\n{}\nrun `{}` and commit",
+                    list.join("\n"),
+                    emit::COMMAND
+                );
+            }
+            eprintln!("{} is up to date ({} files)", out.display(), files.len());
+        }
         Cmd::Show {
             kernel: name,
             json,
@@ -59,15 +101,27 @@ fn run(cli: Cli) -> Result<()> {
                 format!(
                     "no kernel `{name}` in {}; known: {}",
                     cli.kernels.display(),
-                    defs.iter().map(|k| k.name.as_str()).collect::<Vec<_>>().join(", ")
+                    defs.iter()
+                        .map(|k| k.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )
             })?;
             let r_ceil = def.support.to_f64().ceil() as i64;
             if n_layers < r_ceil + 1 {
-                bail!("--n-layers {n_layers}: needs at least R + 1 = {} layers", r_ceil + 1);
+                bail!(
+                    "--n-layers {n_layers}: needs at least R + 1 = {} layers",
+                    r_ceil + 1
+                );
             }
             let start = Instant::now();
-            let a = analysis::analyse(def, analysis::Options { digits, check_layers: n_layers });
+            let a = analysis::analyse(
+                def,
+                analysis::Options {
+                    digits,
+                    check_layers: n_layers,
+                },
+            );
             let took = start.elapsed();
             if json {
                 println!("{}", serde_json::to_string_pretty(&show::json(&a))?);
@@ -78,4 +132,18 @@ fn run(cli: Cli) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Loads, validates and analyses every kernel, then renders generated/. Any
+/// error stops before anything is written.
+fn render_all(dir: &std::path::Path) -> Result<Vec<(PathBuf, String)>> {
+    let defs = kernel::load_dir(dir).map_err(|e| anyhow::anyhow!("{e}"))?;
+    if defs.is_empty() {
+        bail!("no kernel definitions (*.toml) in {}", dir.display());
+    }
+    let analyses: Vec<analysis::Analysis> = defs
+        .iter()
+        .map(|d| analysis::analyse(d, analysis::Options::default()))
+        .collect();
+    Ok(emit::render(&analyses))
 }

@@ -154,7 +154,7 @@ impl Poly {
         let mut acc = Exact::zero();
         for (k, c) in self.coef.iter().enumerate() {
             let e = k as u32 + m + 1;
-            let diff = Rational::from(b.clone().pow_int(e)) - Rational::from(a.clone().pow_int(e));
+            let diff = b.clone().pow_int(e) - a.clone().pow_int(e);
             acc = &acc + &(c * &Exact::rational(diff / Rational::from(e)));
         }
         acc
@@ -328,7 +328,10 @@ impl Parser {
         self.toks.get(self.pos).map(|(_, t)| t)
     }
     fn col(&self) -> usize {
-        self.toks.get(self.pos).map(|(c, _)| *c).unwrap_or(self.end_col)
+        self.toks
+            .get(self.pos)
+            .map(|(c, _)| *c)
+            .unwrap_or(self.end_col)
     }
     fn err(&self, message: String) -> ParseError {
         ParseError {
@@ -343,7 +346,11 @@ impl Parser {
         while let Some(Tok::Op(c @ ('+' | '-'))) = self.peek().cloned() {
             self.pos += 1;
             let rhs = self.term()?;
-            acc = if c == '+' { acc.add(&rhs) } else { acc.sub(&rhs) };
+            acc = if c == '+' {
+                acc.add(&rhs)
+            } else {
+                acc.sub(&rhs)
+            };
         }
         Ok(acc)
     }
@@ -374,7 +381,9 @@ impl Parser {
                     let v = a.div_monomial(&den).ok_or_else(|| ParseError {
                         column: col,
                         message: format!("division by `{den}`, which is not a single term"),
-                        fix: "divide only by a rational times a power of pi (and sqrt of a rational)".into(),
+                        fix:
+                            "divide only by a rational times a power of pi (and sqrt of a rational)"
+                                .into(),
                     })?;
                     let mut mono = vec![Exact::zero(); k + 1];
                     mono[k] = v;
@@ -443,7 +452,8 @@ impl Parser {
                             .filter(|r| *r >= 0)
                             .ok_or_else(|| ParseError {
                                 column: col,
-                                message: "sqrt of something other than a non-negative rational".into(),
+                                message: "sqrt of something other than a non-negative rational"
+                                    .into(),
                                 fix: "use sqrt only on numbers, e.g. sqrt(3)".into(),
                             })?;
                         Ok(Poly::constant(Exact::sqrt_rational(&r)))
@@ -512,7 +522,10 @@ mod tests {
         let p = parse_poly("-q^2 + q^3/2").unwrap();
         assert_eq!(p.to_string(), "(-1)*q^2 + (1/2)*q^3");
         let c = parse_poly("(2 - q)^3/6").unwrap();
-        assert_eq!(c.eval_rational(&Rational::from(1)).as_rational(), Some(Rational::from((1, 6))));
+        assert_eq!(
+            c.eval_rational(&Rational::from(1)).as_rational(),
+            Some(Rational::from((1, 6)))
+        );
     }
 
     #[test]

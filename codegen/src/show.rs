@@ -37,7 +37,11 @@ fn facts_text(out: &mut String, title: &str, facts: &[Fact]) {
 }
 
 fn terms_text(out: &mut String, a: &Analysis, title: &str, terms: &[Term]) {
-    let _ = writeln!(out, "\n{title} ({} particles, self included; lengths in d, h = d)", terms.len());
+    let _ = writeln!(
+        out,
+        "\n{title} ({} particles, self included; lengths in d, h = d)",
+        terms.len()
+    );
     let _ = writeln!(
         out,
         "  {:>3} {:>6} {:>6}  {:>19} {:>19}  {:>19} {:>19} {:>19}",
@@ -68,8 +72,8 @@ fn compared_text(out: &mut String, title: &str, rows: &[Compared]) {
     let _ = writeln!(out, "\n{title}");
     let _ = writeln!(
         out,
-        "  {:<22} {:>10} {:>12} {:>16} {:>11}  {}",
-        "quantity", "printed", "ours rounded", "ours", "ours-print", "agree?"
+        "  {:<22} {:>10} {:>12} {:>16} {:>11}  agree?",
+        "quantity", "printed", "ours rounded", "ours", "ours-print"
     );
     for r in rows {
         let _ = writeln!(
@@ -80,7 +84,11 @@ fn compared_text(out: &mut String, title: &str, rows: &[Compared]) {
             r.ours_rounded,
             r.ours,
             r.difference,
-            if r.matches { "yes" } else { "NO: the print differs from the exact value" }
+            if r.matches {
+                "yes"
+            } else {
+                "NO: the print differs from the exact value"
+            }
         );
     }
 }
@@ -91,19 +99,36 @@ pub fn text(a: &Analysis) -> String {
     let _ = writeln!(out, "{} — {}", d.name, d.title);
     let _ = writeln!(out, "  file:      {}", d.file.display());
     let _ = writeln!(out, "  reference: {}", d.reference);
-    let _ = writeln!(out, "  support:   R = {} h (h = d throughout the analysis)", d.support);
-    let _ = writeln!(out, "  decimals:  {} significant digits ({} bits)", a.digits, a.prec);
+    let _ = writeln!(
+        out,
+        "  support:   R = {} h (h = d throughout the analysis)",
+        d.support
+    );
+    let _ = writeln!(
+        out,
+        "  decimals:  {} significant digits ({} bits)",
+        a.digits, a.prec
+    );
     let _ = writeln!(out, "\nW pieces (q = r/h), exact:");
     for p in &d.w.pieces {
         let _ = writeln!(out, "  ({}, {}]: {}", p.from, p.to, p.poly);
     }
-    let _ = writeln!(out, "W' pieces ({}):", if d.dw_given { "given" } else { "dW/dq" });
+    let _ = writeln!(
+        out,
+        "W' pieces ({}):",
+        if d.dw_given { "given" } else { "dW/dq" }
+    );
     for p in &d.dw.pieces {
         let _ = writeln!(out, "  ({}, {}]: {}", p.from, p.to, p.poly);
     }
     facts_text(&mut out, "Validation", &a.facts);
     terms_text(&mut out, a, "Neighbours at t = 0", &a.terms_t0);
-    terms_text(&mut out, a, "Neighbours at t = 0.5 T (maximum compaction)", &a.terms_half);
+    terms_text(
+        &mut out,
+        a,
+        "Neighbours at t = 0.5 T (maximum compaction)",
+        &a.terms_half,
+    );
 
     let _ = writeln!(out, "\nCompaction eps = rho/rho0 - 1 of the centre particle (n = 0), t as a fraction of T = d N^2/U");
     let e = &a.eps;
@@ -117,29 +142,58 @@ pub fn text(a: &Analysis) -> String {
         ("mean eps", &e.mean),
     ] {
         let _ = writeln!(out, "  {:<11} = {}", name, known_dec(a, k));
-        let _ = writeln!(out, "  {:<11}   {}{}", "", k.form(), if k.exact.is_some() { format!("  [{}]", k.how) } else { String::new() });
+        let _ = writeln!(
+            out,
+            "  {:<11}   {}{}",
+            "",
+            k.form(),
+            if k.exact.is_some() {
+                format!("  [{}]", k.how)
+            } else {
+                String::new()
+            }
+        );
     }
     facts_text(
         &mut out,
-        &format!("The paper's claims about eps, checked (N = {} layers)", a.check_layers),
+        &format!(
+            "The paper's claims about eps, checked (N = {} layers)",
+            a.check_layers
+        ),
         &a.claims,
     );
 
-    let _ = writeln!(out, "\nLattice sums (exact; see codegen/src/c0.rs for the derivation)");
+    let _ = writeln!(
+        out,
+        "\nLattice sums (exact; see codegen/src/c0.rs for the derivation)"
+    );
     for (label, s) in [("t = 0", &a.sums_t0), ("t = 0.5 T", &a.sums_half)] {
         let _ = writeln!(out, "  {label}:");
         let _ = writeln!(out, "    G  = {}  = {}", s.g, dec(a, &s.g));
         let _ = writeln!(out, "    V  = {}  = {}", s.v, dec(a, &s.v));
         let _ = writeln!(out, "    Av = {}  = {}", s.av, dec(a, &s.av));
-        let _ = writeln!(out, "    2W'(1) (nearest pair) = {}  = {}", s.pair, dec(a, &s.pair));
+        let _ = writeln!(
+            out,
+            "    2W'(1) (nearest pair) = {}  = {}",
+            s.pair,
+            dec(a, &s.pair)
+        );
     }
     let _ = writeln!(
         out,
         "\nc0 polynomial: a c0^2 + b alpha (U/N^2) c0 + c p d = 0;  root c0 = (U/N^2) (sqrt(P alpha^2 + Q A) - S alpha), A = p d N^4/U^2"
     );
     for m in &a.models {
-        let default = if m.model.name == crate::c0::DEFAULT_MODEL { " (default)" } else { "" };
-        let _ = writeln!(out, "\n  model {}{}: {}", m.model.name, default, m.model.description);
+        let default = if m.model.name == crate::c0::DEFAULT_MODEL {
+            " (default)"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            out,
+            "\n  model {}{}: {}",
+            m.model.name, default, m.model.description
+        );
         for (n, v) in [("a", &m.a), ("b", &m.b), ("c", &m.c)] {
             let _ = writeln!(out, "    {n} = {}\n        = {}", v, dec(a, v));
         }
