@@ -51,9 +51,8 @@ impl Kernel for Monaghan {
     #[inline(always)]
     fn dw_over_q(q2: f64) -> f64 {
         if q2 <= 1.0 {
-            let q = q2.sqrt();
-            let s = q - 1.0;
-            ((1.02313891987647 * s + 0.68209261325098) * s + -0.34104630662549) / q
+            let s = q2.sqrt() - 1.0;
+            1.02313891987647 * s + -0.34104630662549
         } else if q2 <= Self::SUPPORT2_CLOSED {
             let q = q2.sqrt();
             let s = q - 2.0;
@@ -461,5 +460,5 @@ pub const INFO: KernelInfo = KernelInfo {
         },
     ],
     eps_at,
-    flops_per_pair: 19u32,
+    flops_per_pair: 17u32,
 };

@@ -69,7 +69,7 @@ fn shift_q2(p: &Poly, b: &Rational) -> Poly {
     out
 }
 
-/// q^-1 p(q) for an odd p, as an even polynomial.
+/// q^-1 p(q) for p with p(0) = 0.
 fn div_q(p: &Poly) -> Poly {
     Poly {
         coef: p.coef.iter().skip(1).cloned().collect(),
@@ -118,52 +118,46 @@ fn horner(var: &TokenStream, p: &Poly) -> (TokenStream, u32) {
     (acc, flops)
 }
 
-enum Form {
-    /// even polynomial in q: Horner in u = q2 - b^2
-    EvenInQ,
-    /// general: Horner in s = sqrt(q2) - b
-    General,
-}
-
 /// One branch body for a piece: tokens and flops (sqrt counted as one).
+///
+/// W: Horner in u if even, else in s. dW/dq: q times a Horner in u if odd,
+/// else Horner in s. (dW/dq)/q: when W'(0) = 0 the division by q is done
+/// exactly on the polynomial (no cancellation near q = 0), then as W; only a
+/// gradient with W'(0) != 0 divides at run time.
 fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
     let b = &p.to;
     let b2 = lit(Rational::from(b * b).to_f64());
     let bl = lit(Exact::rational(b.clone()).to_f64());
-    let (form, poly) = match what {
-        Which::W | Which::Dw => {
-            if p.poly.is_even() {
-                (Form::EvenInQ, p.poly.clone())
+    let in_u = |poly: &Poly| horner(&quote!(u), &shift_q2(poly, b));
+    let in_s = |poly: &Poly| horner(&quote!(s), &shift_q(poly, b));
+    let plain = |poly: &Poly| -> (TokenStream, u32) {
+        if poly.is_even() {
+            let (h, f) = in_u(poly);
+            (quote! { let u = q2 - #b2; #h }, f + 1)
+        } else {
+            let (h, f) = in_s(poly);
+            (quote! { let s = q2.sqrt() - #bl; #h }, f + 2)
+        }
+    };
+    match what {
+        Which::W => plain(&p.poly),
+        Which::Dw => {
+            if p.poly.is_odd() {
+                let (h, f) = in_u(&div_q(&p.poly));
+                (quote! { let u = q2 - #b2; q2.sqrt() * (#h) }, f + 3)
             } else {
-                (Form::General, p.poly.clone())
+                plain(&p.poly)
             }
         }
         Which::DwOverQ => {
-            if p.poly.is_odd() {
-                (Form::EvenInQ, div_q(&p.poly))
+            if p.poly.coef.first().is_none_or(|c| c.is_zero()) {
+                plain(&div_q(&p.poly))
             } else {
-                (Form::General, p.poly.clone())
-            }
-        }
-    };
-    match form {
-        Form::EvenInQ => {
-            let (h, f) = horner(&quote!(u), &shift_q2(&poly, b));
-            // dW/dq of an odd gradient needs q itself
-            if let (Which::Dw, true) = (what, p.poly.is_odd()) {
-                let (h, f) = horner(&quote!(u), &shift_q2(&div_q(&poly), b));
-                return (quote! { let u = q2 - #b2; q2.sqrt() * (#h) }, f + 3);
-            }
-            (quote! { let u = q2 - #b2; #h }, f + 1)
-        }
-        Form::General => {
-            let (h, f) = horner(&quote!(s), &shift_q(&poly, b));
-            match what {
-                Which::DwOverQ => (
+                let (h, f) = in_s(&p.poly);
+                (
                     quote! { let q = q2.sqrt(); let s = q - #bl; (#h) / q },
                     f + 3,
-                ),
-                _ => (quote! { let s = q2.sqrt() - #bl; #h }, f + 2),
+                )
             }
         }
     }

@@ -1,0 +1,172 @@
+//! generated/ is what the generator writes now; a kernel added to kernels/
+//! appears in the registry and its module compiles; one bad kernel changes
+//! nothing.
+
+use shearsph_codegen::analysis::{analyse, Options};
+use shearsph_codegen::emit;
+use shearsph_codegen::kernel::load_dir;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn render(kernels: &Path) -> Vec<(PathBuf, String)> {
+    let defs = load_dir(kernels).unwrap();
+    let analyses: Vec<_> = defs
+        .iter()
+        .map(|d| analyse(d, Options::default()))
+        .collect();
+    emit::render(&analyses)
+}
+
+#[test]
+fn generated_tree_is_fresh() {
+    let files = render(&root().join("kernels"));
+    let stale = emit::ensure(&root().join("generated"), &files, true).unwrap();
+    assert!(
+        stale.is_empty(),
+        "stale generated files {stale:?}: run `{}` and commit",
+        emit::COMMAND
+    );
+}
+
+#[test]
+fn generation_is_deterministic() {
+    let a = render(&root().join("kernels"));
+    let b = render(&root().join("kernels"));
+    assert_eq!(a, b);
+}
+
+const EXTRA: &str = r#"
+name = "wendland_c2"
+title = "Wendland C2 (2D)"
+reference = "Wendland 1995; 2D normalisation 7/(4 pi) for support 2h"
+support = 2
+scale = "7/(4*pi)"
+[[w]]
+to = 2
+expr = "(1 - q/2)^4 * (1 + 2*q)"
+"#;
+
+fn codegen_bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_shearsph-codegen"))
+}
+
+#[test]
+fn added_kernel_appears_in_the_registry_and_compiles() {
+    let tmp = tempfile::tempdir().unwrap();
+    let kernels = tmp.path().join("kernels");
+    std::fs::create_dir(&kernels).unwrap();
+    for f in std::fs::read_dir(root().join("kernels")).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(&f, kernels.join(f.file_name().unwrap())).unwrap();
+    }
+    std::fs::write(kernels.join("wendland_c2.toml"), EXTRA).unwrap();
+    let out = tmp.path().join("generated");
+    let st = codegen_bin()
+        .args([
+            "--kernels",
+            kernels.to_str().unwrap(),
+            "generate",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let registry = std::fs::read_to_string(out.join("registry.rs")).unwrap();
+    assert!(registry.contains("pub mod wendland_c2"), "{registry}");
+    assert!(registry.contains("\"wendland_c2\" => Some(visitor.visit::<WendlandC2>())"));
+    let module = std::fs::read_to_string(out.join("wendland_c2.rs")).unwrap();
+    syn::parse_file(&module).expect("parses");
+    // compile it for real, with the solver's Kernel trait, as a library
+    let lib = tmp.path().join("lib.rs");
+    std::fs::write(
+        &lib,
+        format!(
+            "#[path = {:?}] pub mod kernel;\n#[allow(clippy::all)] pub mod kernels {{ include!({:?}); }}\n\
+             pub fn w() -> f64 {{ use kernel::Kernel; kernels::WendlandC2::w(1.0) }}\n",
+            root().join("src/kernel.rs"),
+            out.join("registry.rs")
+        ),
+    )
+    .unwrap();
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let st = Command::new(rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "lib",
+            "--crate-name",
+            "gen_check",
+            "-o",
+        ])
+        .arg(tmp.path().join("libgen_check.rlib"))
+        .arg(&lib)
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "the emitted code compiles:\n{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+}
+
+#[test]
+fn check_fails_after_a_kernel_is_edited_and_bad_kernels_change_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let kernels = tmp.path().join("kernels");
+    std::fs::create_dir(&kernels).unwrap();
+    std::fs::copy(
+        root().join("kernels/monaghan.toml"),
+        kernels.join("monaghan.toml"),
+    )
+    .unwrap();
+    let out = tmp.path().join("generated");
+    let run = |args: &[&str]| {
+        codegen_bin()
+            .args(["--kernels", kernels.to_str().unwrap()])
+            .args(args)
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
+    assert!(run(&["generate"]).status.success());
+    assert!(run(&["check"]).status.success());
+    // edit: a different title changes the emitted docs
+    let src = std::fs::read_to_string(kernels.join("monaghan.toml")).unwrap();
+    std::fs::write(
+        kernels.join("monaghan.toml"),
+        src.replace("Monaghan cubic spline (R = 2)", "Cubic"),
+    )
+    .unwrap();
+    let st = run(&["check"]);
+    assert!(!st.status.success());
+    let msg = String::from_utf8_lossy(&st.stderr);
+    assert!(
+        msg.contains("monaghan.rs") && msg.contains("generate"),
+        "{msg}"
+    );
+    // a bad kernel beside it: generate fails and writes nothing
+    let before = std::fs::read_to_string(out.join("monaghan.rs")).unwrap();
+    std::fs::write(
+        kernels.join("zz_bad.toml"),
+        "name = \"zz\"\nreference = \"x\"\nsupport = 1\n[[w]]\nto = 1\nexpr = \"1 - q\"\n",
+    )
+    .unwrap();
+    let st = run(&["generate"]);
+    assert!(!st.status.success());
+    assert!(String::from_utf8_lossy(&st.stderr).contains("zz_bad.toml"));
+    assert_eq!(
+        std::fs::read_to_string(out.join("monaghan.rs")).unwrap(),
+        before
+    );
+    assert!(!out.join("zz.rs").exists());
+}
