@@ -1,6 +1,10 @@
 //! For R = 1 the general lattice-sum construction must give (34) term by term:
+//!
+//! ```text
 //! (2 (c0^2 eps0 + p d)/(1 + eps0) + alpha c0 U/(2 N^2)) W'(d)
 //!   - p d/(1 + eps0) (3/sqrt 3) W'(sqrt(3)/2 d) = 0,
+//! ```
+//!
 //! i.e. times (1 + eps0): a = 2 eps0 W'(1), b = (1 + eps0) W'(1)/2,
 //! c = 2 W'(1) - sqrt(3) W'(sqrt(3)/2).
 
