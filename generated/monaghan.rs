@@ -26,7 +26,7 @@ impl Kernel for Monaghan {
             ((0.34104630662549 * s + 0.34104630662549) * s + -0.34104630662549) * s
                 + 0.11368210220849667
         } else if q2 <= Self::SUPPORT2_CLOSED {
-            let s = q2.sqrt() - 2.0;
+            let s = (q2 - 4.0) / (q2.sqrt() + 2.0);
             -0.11368210220849667 * s * s * s
         } else {
             0.0
@@ -38,10 +38,13 @@ impl Kernel for Monaghan {
     #[inline(always)]
     fn dw(q2: f64) -> f64 {
         if q2 <= 1.0 {
-            let s = q2.sqrt() - 1.0;
-            (1.02313891987647 * s + 0.68209261325098) * s + -0.34104630662549
+            q2.sqrt()
+                * {
+                    let s = q2.sqrt() - 1.0;
+                    1.02313891987647 * s + -0.34104630662549
+                }
         } else if q2 <= Self::SUPPORT2_CLOSED {
-            let s = q2.sqrt() - 2.0;
+            let s = (q2 - 4.0) / (q2.sqrt() + 2.0);
             -0.34104630662549 * s * s
         } else {
             0.0
@@ -55,7 +58,7 @@ impl Kernel for Monaghan {
             1.02313891987647 * s + -0.34104630662549
         } else if q2 <= Self::SUPPORT2_CLOSED {
             let q = q2.sqrt();
-            let s = q - 2.0;
+            let s = (q2 - 4.0) / (q + 2.0);
             (-0.34104630662549 * s * s) / q
         } else {
             0.0
@@ -460,5 +463,5 @@ pub const INFO: KernelInfo = KernelInfo {
         },
     ],
     eps_at,
-    flops_per_pair: 17u32,
+    flops_per_pair: 19u32,
 };

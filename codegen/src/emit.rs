@@ -120,8 +120,8 @@ fn horner(var: &TokenStream, p: &Poly) -> (TokenStream, u32) {
 
 /// One branch body for a piece: tokens and flops (sqrt counted as one).
 ///
-/// W: Horner in u if even, else in s. dW/dq: q times a Horner in u if odd,
-/// else Horner in s. (dW/dq)/q: when W'(0) = 0 the division by q is done
+/// W: Horner in u if even, else in s. dW/dq: when W'(0) = 0, q times
+/// W'(q)/q (divided exactly on the polynomial), else as W. (dW/dq)/q: when W'(0) = 0 the division by q is done
 /// exactly on the polynomial (no cancellation near q = 0), then as W; only a
 /// gradient with W'(0) != 0 divides at run time.
 fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
@@ -130,21 +130,34 @@ fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
     let bl = lit(Exact::rational(b.clone()).to_f64());
     let in_u = |poly: &Poly| horner(&quote!(u), &shift_q2(poly, b));
     let in_s = |poly: &Poly| horner(&quote!(s), &shift_q(poly, b));
+    // Where the piece vanishes at its end, s = q - b is formed as
+    // (q2 - b^2)/(q + b): q2 - b^2 is exact there, so s keeps full relative
+    // accuracy instead of inheriting the rounding of sqrt (W ~ s^k near R).
+    let vanishes_at_end = |poly: &Poly| poly.eval_rational(b).is_zero();
+    let s_of_q = |poly: &Poly, q: TokenStream| -> (TokenStream, u32) {
+        if vanishes_at_end(poly) {
+            (quote! { let s = (q2 - #b2) / (#q + #bl); }, 3)
+        } else {
+            (quote! { let s = #q - #bl; }, 1)
+        }
+    };
     let plain = |poly: &Poly| -> (TokenStream, u32) {
         if poly.is_even() {
             let (h, f) = in_u(poly);
             (quote! { let u = q2 - #b2; #h }, f + 1)
         } else {
             let (h, f) = in_s(poly);
-            (quote! { let s = q2.sqrt() - #bl; #h }, f + 2)
+            let (sd, fs) = s_of_q(poly, quote!(q2.sqrt()));
+            (quote! { #sd #h }, f + fs + 1)
         }
     };
     match what {
         Which::W => plain(&p.poly),
         Which::Dw => {
-            if p.poly.is_odd() {
-                let (h, f) = in_u(&div_q(&p.poly));
-                (quote! { let u = q2 - #b2; q2.sqrt() * (#h) }, f + 3)
+            if p.poly.coef.first().is_none_or(|c| c.is_zero()) {
+                // W'(q) = q (W'(q)/q): no cancellation near q = 0
+                let (body, f) = plain(&div_q(&p.poly));
+                (quote! { q2.sqrt() * { #body } }, f + 2)
             } else {
                 plain(&p.poly)
             }
@@ -154,10 +167,8 @@ fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
                 plain(&div_q(&p.poly))
             } else {
                 let (h, f) = in_s(&p.poly);
-                (
-                    quote! { let q = q2.sqrt(); let s = q - #bl; (#h) / q },
-                    f + 3,
-                )
+                let (sd, fs) = s_of_q(&p.poly, quote!(q));
+                (quote! { let q = q2.sqrt(); #sd (#h) / q }, f + fs + 2)
             }
         }
     }

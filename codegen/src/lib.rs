@@ -8,6 +8,10 @@
 //! triangular lattice; [`compaction`] computes eps(t, n); [`c0`] the terms of
 //! (25)-(34); [`analysis`] gathers them; [`show`] prints them.
 
+/// Re-exported so tests of the solver crate can use the exact numbers without
+/// their own dependency on rug.
+pub use rug;
+
 pub mod analysis;
 pub mod c0;
 pub mod compaction;

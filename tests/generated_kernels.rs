@@ -1,0 +1,109 @@
+//! The emitted kernel code against the derivation engine's exact values: W,
+//! dW/dq and (dW/dq)/q to 1e-14 relative at many q in every piece, joints
+//! included; eps(t, n) against the high-precision curve; the registry lists
+//! every kernels/*.toml.
+
+use shearsph_codegen::rug::{Float, Rational};
+use shearsph::kernel::{Kernel, KernelVisitor};
+use shearsph::kernels::{kernel_info, with_kernel, KERNELS, NAMES};
+use shearsph_codegen::compaction::{EpsCurve, FloatRadial, Site};
+use shearsph_codegen::kernel::{load_dir, KernelDef};
+use std::path::Path;
+
+type Fns = [(&'static str, fn(f64) -> f64); 3];
+
+struct Functions;
+impl KernelVisitor for Functions {
+    type Output = Fns;
+    fn visit<K: Kernel>(self) -> Fns {
+        [("w", K::w), ("dw", K::dw), ("dw_over_q", K::dw_over_q)]
+    }
+}
+
+fn defs() -> Vec<KernelDef> {
+    load_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("kernels")).unwrap()
+}
+
+/// The exact kernel at the f64 argument actually passed (q2 as a dyadic
+/// rational), evaluated at 200 bits: the comparison measures the emitted
+/// code, not the rounding of its input.
+fn exact(w: &FloatRadial, dw: &FloatRadial, which: &str, q2: f64) -> Float {
+    let q2f = Float::with_val(200, q2);
+    match which {
+        "w" => w.eval(&q2f),
+        "dw" => dw.eval(&q2f),
+        _ => dw.eval(&q2f) / q2f.sqrt(),
+    }
+}
+
+#[test]
+fn emitted_functions_match_the_exact_kernel() {
+    let mut worst = 0.0f64;
+    for def in defs() {
+        let fns = with_kernel(&def.name, Functions).expect("every kernel is in the registry");
+        let r = def.support.clone();
+        // q = j/(8 * 97) R for j = 1..=776: many points in every piece, the joints
+        // (multiples of 1/8 of an integer support hit them exactly) and R itself
+        let steps = 8 * 97;
+        let mut qs: Vec<Rational> = (1..=steps).map(|j| Rational::from((j, steps)) * &r).collect();
+        for p in &def.w.pieces {
+            qs.push(p.to.clone());
+        }
+        let (w, dw) = (FloatRadial::new(&def.w, 200), FloatRadial::new(&def.dw, 200));
+        for (which, f) in fns {
+            for q in &qs {
+                let q2 = Rational::from(q * q).to_f64();
+                let want = exact(&w, &dw, which, q2);
+                let got = f(q2);
+                // at a zero of the kernel (q = R) the 200-bit reference is 0 to
+                // within its own rounding (~1e-57 here)
+                if want.clone().abs() < 1e-40 {
+                    assert!(got.abs() < 1e-40, "{} {which}({q}) = {got}, exact 0", def.name);
+                    continue;
+                }
+                let rel = ((Float::with_val(200, got) - &want) / &want).to_f64().abs();
+                worst = worst.max(rel);
+                assert!(
+                    rel <= 1e-14,
+                    "{} {which}(q = {q}): emitted {got:e}, exact {}, relative error {rel:e}",
+                    def.name,
+                    want.to_f64()
+                );
+            }
+        }
+    }
+    // measured: the worst relative error over all kernels and points is printed
+    // by `cargo test -- --nocapture`
+    println!("worst relative error of the emitted kernel functions: {worst:e}");
+}
+
+#[test]
+fn emitted_eps_curve_matches_the_high_precision_one() {
+    for def in defs() {
+        let info = kernel_info(&def.name).unwrap();
+        let fr = FloatRadial::new(&def.w, 128);
+        for n in 0..4u32 {
+            let curve = EpsCurve::new(&fr, &def.support, Site { n: n as i64, n_layers: None });
+            for j in 0..=200 {
+                let t = j as f64 / 200.0;
+                let want = curve.eval(&Float::with_val(128, t)).to_f64();
+                let got = (info.eps_at)(t, n);
+                assert!((got - want).abs() < 1e-13, "{} eps({t}, {n}) = {got}, want {want}", def.name);
+            }
+        }
+        // the emitted constants are the derivation's
+        assert!(((info.eps_at)(0.0, 0) - info.eps.t0.value).abs() < 1e-15);
+        assert!(((info.eps_at)(0.5, 0) - info.eps.half_period.value).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn registry_lists_every_definition() {
+    let names: Vec<String> = defs().into_iter().map(|d| d.name).collect();
+    assert_eq!(names, NAMES);
+    assert_eq!(KERNELS.len(), names.len());
+    for info in KERNELS {
+        assert!(info.c0_model(info.c0_default).is_some());
+        assert!(info.stencil_t0.iter().any(|p| p.r2 == 0.0), "self is in the stencil");
+    }
+}
