@@ -320,6 +320,9 @@ struct Parser {
     end_col: usize,
 }
 
+/// The largest degree in q a formula may reach.
+pub const MAX_DEGREE: usize = 64;
+
 const GRAMMAR_FIX: &str =
     "write a polynomial in q with numbers, pi, sqrt(..), + - * / ^ and parentheses, e.g. 15/(7*pi) * (2 - q)^3 / 6";
 
@@ -417,7 +420,15 @@ impl Parser {
             match self.peek().cloned() {
                 Some(Tok::Num(n)) if n.denom() == &1 && *n.numer() >= 0 && *n.numer() <= 64 => {
                     self.pos += 1;
-                    Ok(base.pow(n.numer().to_u32().unwrap()))
+                    let e = n.numer().to_u32().unwrap();
+                    if base.degree() * e as usize > MAX_DEGREE {
+                        return Err(ParseError {
+                            column: col,
+                            message: format!("a degree above {MAX_DEGREE} in q"),
+                            fix: "kernel pieces are polynomials of modest degree; check the exponents".into(),
+                        });
+                    }
+                    Ok(base.pow(e))
                 }
                 _ => Err(ParseError {
                     column: col,
@@ -450,6 +461,11 @@ impl Parser {
                             .as_constant()
                             .and_then(|c| c.as_rational())
                             .filter(|r| *r >= 0)
+                            // square-free reduction is by trial division: keep it quick
+                            .filter(|r| {
+                                r.numer().significant_bits() <= 40
+                                    && r.denom().significant_bits() <= 40
+                            })
                             .ok_or_else(|| ParseError {
                                 column: col,
                                 message: "sqrt of something other than a non-negative rational"
