@@ -468,7 +468,7 @@ impl Parser {
                             })
                             .ok_or_else(|| ParseError {
                                 column: col,
-                                message: "sqrt of something other than a non-negative rational"
+                                message: "sqrt of something other than a non-negative rational below 2^40"
                                     .into(),
                                 fix: "use sqrt only on numbers, e.g. sqrt(3)".into(),
                             })?;
