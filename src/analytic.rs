@@ -131,7 +131,8 @@ mod tests {
         let (t, hy, ht) = (2.0, 1e-3, 1e-3);
         for &y in &[-2.0, -0.3, 0.0, 1.7] {
             let dudt = (f.startup(y, t + ht) - f.startup(y, t - ht)) / (2.0 * ht);
-            let d2u = (f.startup(y + hy, t) - 2.0 * f.startup(y, t) + f.startup(y - hy, t)) / (hy * hy);
+            let d2u =
+                (f.startup(y + hy, t) - 2.0 * f.startup(y, t) + f.startup(y - hy, t)) / (hy * hy);
             assert!((dudt - (f.nu * d2u + f.p)).abs() < 1e-5, "y = {y}");
         }
     }

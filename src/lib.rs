@@ -13,5 +13,7 @@ pub mod kernels {
     include!("../generated/registry.rs");
 }
 pub mod analytic;
+pub mod cli;
+pub mod output;
 pub mod scene;
 pub mod solver;

@@ -1,1 +1,32 @@
-fn main() {}
+//! The `shearsph` command line: parses the flags and hands each subcommand
+//! to its module in `shearsph::cli`.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use shearsph::cli;
+
+/// Model sound speed c0 for SPH plane shear flow: exact derivation and a
+/// fast 2D solver.
+#[derive(Debug, Parser)]
+#[command(name = "shearsph", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run one scene: progress bar; summary, profile, time series, charts.
+    Run(cli::run::RunArgs),
+    /// c0 for a kernel and a scene by every rule, with the time step each implies.
+    C0(cli::c0::C0Args),
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
+        Command::Run(args) => cli::run::main(args),
+        Command::C0(args) => cli::c0::main(args),
+    };
+    cli::report(result)
+}

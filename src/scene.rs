@@ -13,8 +13,8 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::analytic::Poiseuille;
 use crate::kernel::KernelInfo;
+use crate::kernels;
 use crate::solver::lattice::Lattice;
-use crate::solver::registry;
 
 /// The built-in scene (src/default_scene.toml).
 pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
@@ -79,6 +79,11 @@ pub struct Scene {
     /// A run fails when the fluid's compaction eps = rho/rho0 - 1 exceeds this.
     #[serde(default = "default_eps_limit")]
     pub eps_limit: f64,
+    /// Random displacement of each fluid particle at the start, uniform in
+    /// [-jitter, jitter] d per component (deterministic): an imperfect
+    /// lattice, which only pressure can restore.
+    #[serde(default)]
+    pub jitter: f64,
     /// Neighbour-list skin in units of h (performance only).
     #[serde(default = "default_skin")]
     pub skin: f64,
@@ -176,7 +181,8 @@ impl Default for C0Spec {
     }
 }
 
-const C0_SYNTAX: &str = "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, rule10, table2";
+const C0_SYNTAX: &str =
+    "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, rule10, table2";
 
 impl FromStr for C0Spec {
     type Err = String;
@@ -187,10 +193,12 @@ impl FromStr for C0Spec {
         }
         let (factor, rule) = match s.split_once('*') {
             Some((f, r)) => {
-                let factor = f
-                    .trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("bad factor {:?} in c0 = {s:?}: expected {C0_SYNTAX}", f.trim()))?;
+                let factor = f.trim().parse::<f64>().map_err(|_| {
+                    format!(
+                        "bad factor {:?} in c0 = {s:?}: expected {C0_SYNTAX}",
+                        f.trim()
+                    )
+                })?;
                 (factor, r.trim())
             }
             None => (1.0, s),
@@ -306,7 +314,9 @@ impl Scene {
     /// The built-in scene, overlaid by the scene file if given, then by
     /// `overrides` (from flags).
     pub fn load(file: Option<&Path>, overrides: toml::Table) -> Result<Scene, SceneError> {
-        let mut table: toml::Table = DEFAULT_SCENE.parse().expect("the built-in scene is valid TOML");
+        let mut table: toml::Table = DEFAULT_SCENE
+            .parse()
+            .expect("the built-in scene is valid TOML");
         let mut origin = "scene (built-in default".to_string();
         if let Some(path) = file {
             let read_err = |message: String| SceneError::Read {
@@ -314,7 +324,9 @@ impl Scene {
                 message,
             };
             let text = std::fs::read_to_string(path).map_err(|e| read_err(e.to_string()))?;
-            let own: toml::Table = text.parse().map_err(|e: toml::de::Error| read_err(e.to_string()))?;
+            let own: toml::Table = text
+                .parse()
+                .map_err(|e: toml::de::Error| read_err(e.to_string()))?;
             if own.contains_key("re") && own.contains_key("p") {
                 return Err(read_err(
                     "gives both `re` and `p`; they fix the same thing (p = 2 U^2 / (Re B)): keep one".into(),
@@ -328,10 +340,12 @@ impl Scene {
         }
         overlay(&mut table, overrides);
         origin.push(')');
-        toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| SceneError::Read {
-            origin,
-            message: e.message().trim().to_string(),
-        })
+        toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| SceneError::Read {
+                origin,
+                message: e.message().trim().to_string(),
+            })
     }
 
     /// Parse a whole scene from TOML, with no defaults but the fields'.
@@ -354,9 +368,13 @@ impl Scene {
 
 /// A kernel's data by name, or an error listing the known kernels.
 pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
-    registry::kernel_info(name).ok_or_else(|| SceneError::UnknownKernel {
+    kernels::kernel_info(name).ok_or_else(|| SceneError::UnknownKernel {
         name: name.to_string(),
-        known: registry::KERNELS.iter().map(|k| k.name).collect::<Vec<_>>().join(", "),
+        known: kernels::KERNELS
+            .iter()
+            .map(|k| k.name)
+            .collect::<Vec<_>>()
+            .join(", "),
     })
 }
 
@@ -398,14 +416,26 @@ impl Problem {
         positive("rho0", scene.rho0)?;
         positive("decay_tol", scene.decay_tol)?;
         positive("eps_limit", scene.eps_limit)?;
+        if !(0.0..0.5).contains(&scene.jitter) {
+            return Err(invalid(
+                "jitter",
+                format!("{} (in d) must be in [0, 0.5)", scene.jitter),
+            ));
+        }
         if !(0.0..=1.0).contains(&scene.alpha) {
             return Err(invalid(
                 "alpha",
-                format!("{} is outside [0, 1]; the paper takes alpha in (0, 0.25)", scene.alpha),
+                format!(
+                    "{} is outside [0, 1]; the paper takes alpha in (0, 0.25)",
+                    scene.alpha
+                ),
             ));
         }
         if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
-            return Err(invalid("gamma", format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma)));
+            return Err(invalid(
+                "gamma",
+                format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma),
+            ));
         }
         let d = scene.d;
         let h = scene.h_over_d * d;
@@ -413,7 +443,10 @@ impl Problem {
         if !(scene.skin > 0.0 && scene.skin < support) {
             return Err(invalid(
                 "skin",
-                format!("{} (in h) must be in (0, R) = (0, {support}) for kernel {}", scene.skin, info.name),
+                format!(
+                    "{} (in h) must be in (0, R) = (0, {support}) for kernel {}",
+                    scene.skin, info.name
+                ),
             ));
         }
         let lattice = Lattice::new(scene.n_layers, d, h, support);
@@ -432,7 +465,10 @@ impl Problem {
         let b = lattice.b();
         let flow = match (scene.re, scene.p) {
             (Some(_), Some(_)) => {
-                return Err(invalid("re", "both `re` and `p` are given; they fix the same thing: keep one"));
+                return Err(invalid(
+                    "re",
+                    "both `re` and `p` are given; they fix the same thing: keep one",
+                ));
             }
             (None, None) => return Err(invalid("re", "give `re` (or `p`, the body force)")),
             (Some(re), None) => {
@@ -549,9 +585,14 @@ fn resolve_c0(
     let (c0, rule) = match spec {
         C0Spec::Value(v) => (*v, "value".to_string()),
         C0Spec::Rule { factor, rule } => {
-            positive("c0", *factor).map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
+            positive("c0", *factor)
+                .map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
             let (c0, name) = c0_by_rule(rule, info, scene, flow)?;
-            let name = if *factor == 1.0 { name } else { format!("{factor}*{name}") };
+            let name = if *factor == 1.0 {
+                name
+            } else {
+                format!("{factor}*{name}")
+            };
             (factor * c0, name)
         }
     };
@@ -571,7 +612,15 @@ mod tests {
 
     #[test]
     fn c0_spec_round_trips() {
-        for s in ["3.5", "derived", "derived:full", "rule10", "table2", "0.5*derived", "0.01*rule10"] {
+        for s in [
+            "3.5",
+            "derived",
+            "derived:full",
+            "rule10",
+            "table2",
+            "0.5*derived",
+            "0.01*rule10",
+        ] {
             let spec: C0Spec = s.parse().unwrap();
             assert_eq!(spec.to_string(), s);
         }

@@ -79,9 +79,17 @@ impl Lattice {
     /// Positions and layer index of every particle, in storage order.
     pub fn positions(&self) -> (Vec<f64>, Vec<f64>, Vec<i32>) {
         let cap = self.n_particles();
-        let (mut x, mut y, mut layer) = (Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap));
+        let (mut x, mut y, mut layer) = (
+            Vec::with_capacity(cap),
+            Vec::with_capacity(cap),
+            Vec::with_capacity(cap),
+        );
         for n in self.layers() {
-            let offset = if n.rem_euclid(2) == 1 { 0.5 * self.d } else { 0.0 };
+            let offset = if n.rem_euclid(2) == 1 {
+                0.5 * self.d
+            } else {
+                0.0
+            };
             for c in 0..self.columns {
                 x.push(f64::from(c) * self.d + offset);
                 y.push(f64::from(n) * self.dy);

@@ -11,7 +11,6 @@
 //! 5. the checks for blow-up, every step.
 
 mod diagnostics;
-pub mod fixture;
 pub mod lattice;
 pub mod neighbours;
 mod step;
@@ -22,7 +21,6 @@ use serde::Serialize;
 
 use crate::kernel::Kernel;
 use crate::scene::{Problem, Scene, SceneError};
-pub(crate) use fixture as registry;
 use neighbours::NeighbourList;
 use step::{Params, State};
 
@@ -77,10 +75,24 @@ impl TimeStep {
     pub fn new(h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
         let cfl = 0.25 * h / (c0 + v_max);
         let viscous = 0.125 * h * h / nu;
-        let force = if a_max > 0.0 { 0.25 * (h / a_max).sqrt() } else { f64::INFINITY };
-        let (dt, limit) = [(cfl, DtLimit::Cfl), (viscous, DtLimit::Viscous), (force, DtLimit::Force)]
-            .into_iter()
-            .fold((f64::INFINITY, DtLimit::Cfl), |best, c| if c.0 < best.0 { c } else { best });
+        let force = if a_max > 0.0 {
+            0.25 * (h / a_max).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        let (dt, limit) = [
+            (cfl, DtLimit::Cfl),
+            (viscous, DtLimit::Viscous),
+            (force, DtLimit::Force),
+        ]
+        .into_iter()
+        .fold((f64::INFINITY, DtLimit::Cfl), |best, c| {
+            if c.0 < best.0 {
+                c
+            } else {
+                best
+            }
+        });
         TimeStep {
             cfl,
             viscous,
@@ -108,10 +120,19 @@ pub enum Failure {
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Failure::NotFinite => write!(f, "a velocity or acceleration is not finite (NaN or infinite)"),
-            Failure::Speed { v, limit } => write!(f, "a fluid speed {v:.4} exceeds the bound 10 U + c0 = {limit:.4}"),
+            Failure::NotFinite => write!(
+                f,
+                "a velocity or acceleration is not finite (NaN or infinite)"
+            ),
+            Failure::Speed { v, limit } => write!(
+                f,
+                "a fluid speed {v:.4} exceeds the bound 10 U + c0 = {limit:.4}"
+            ),
             Failure::ThroughWall { y, b } => {
-                write!(f, "a fluid particle reached a wall: |y| = {y:.4} >= B = {b:.4}")
+                write!(
+                    f,
+                    "a fluid particle reached a wall: |y| = {y:.4} >= B = {b:.4}"
+                )
             }
             Failure::Compaction { eps, limit } => {
                 write!(f, "the compaction eps = {eps:.4} exceeds the limit {limit}")
@@ -181,7 +202,11 @@ impl DtStats {
             (self.viscous_steps, DtLimit::Viscous),
             (self.force_steps, DtLimit::Force),
         ];
-        counts.iter().max_by_key(|c| c.0).map(|c| c.1).unwrap_or(self.last_limit)
+        counts
+            .iter()
+            .max_by_key(|c| c.0)
+            .map(|c| c.1)
+            .unwrap_or(self.last_limit)
     }
 }
 
@@ -216,11 +241,18 @@ impl RunResult {
 }
 
 /// Resolve `scene` for kernel `K` and run it.
-pub fn simulate<K: Kernel>(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult, SceneError> {
+pub fn simulate<K: Kernel>(
+    scene: &Scene,
+    observer: &mut dyn Observer,
+) -> Result<RunResult, SceneError> {
     if scene.kernel != K::NAME {
         return Err(SceneError::Read {
             origin: "simulate".into(),
-            message: format!("the scene names kernel {:?} but runs with {:?}", scene.kernel, K::NAME),
+            message: format!(
+                "the scene names kernel {:?} but runs with {:?}",
+                scene.kernel,
+                K::NAME
+            ),
         });
     }
     let problem = Problem::new(scene, K::INFO)?;
@@ -251,9 +283,16 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     let mut max_eps_run = max_eps;
     let mut forces = step::forces::<K>(&mut s, &list, &prm, 0.0);
     let nu = problem.flow.nu;
-    let mut dt_stats = DtStats::new(&TimeStep::new(h, problem.c0, nu, forces.v_max, forces.a_max));
+    let mut dt_stats = DtStats::new(&TimeStep::new(
+        h,
+        problem.c0,
+        nu,
+        forces.v_max,
+        forces.a_max,
+    ));
 
-    let sample = |s: &State, t: f64, steps: u64, dt: f64| diagnostics::sample(problem, s, t, steps, dt);
+    let sample =
+        |s: &State, t: f64, steps: u64, dt: f64| diagnostics::sample(problem, s, t, steps, dt);
     let first = sample(&s, 0.0, 0, dt_stats.last);
     observer.output(&first);
     let mut samples = vec![first];
@@ -309,7 +348,11 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
             let last = sample(&s, t, steps, dt);
             observer.output(&last);
             samples.push(last);
-            outcome = Outcome::Failed { failure, t, step: steps };
+            outcome = Outcome::Failed {
+                failure,
+                t,
+                step: steps,
+            };
             break;
         }
         if landing {

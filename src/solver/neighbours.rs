@@ -49,7 +49,10 @@ impl NeighbourList {
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
     /// within `cutoff` (which must be below the strip width).
     pub fn build(&mut self, x: &[f64], y: &[f64], width: f64, cutoff: f64) {
-        assert!(cutoff < width, "cutoff {cutoff} must be below the strip width {width}");
+        assert!(
+            cutoff < width,
+            "cutoff {cutoff} must be below the strip width {width}"
+        );
         let n = x.len();
         self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
@@ -80,11 +83,15 @@ impl NeighbourList {
 
         let mut count = std::mem::take(&mut self.count);
         count.resize(n, 0);
-        count.par_iter_mut().with_min_len(BUILD_CHUNK).enumerate().for_each(|(i, c)| {
-            let mut k = 0u32;
-            visit(i, &mut |_, _| k += 1);
-            *c = k;
-        });
+        count
+            .par_iter_mut()
+            .with_min_len(BUILD_CHUNK)
+            .enumerate()
+            .for_each(|(i, c)| {
+                let mut k = 0u32;
+                visit(i, &mut |_, _| k += 1);
+                *c = k;
+            });
         let stride = count.iter().copied().max().unwrap_or(0) as usize;
         self.stride = stride;
         self.index.resize(n * stride, 0);

@@ -44,9 +44,17 @@ pub(crate) struct State {
 
 impl State {
     pub fn new(lattice: &Lattice, problem: &Problem) -> Self {
-        let (x, y, layer) = lattice.positions();
+        let (mut x, mut y, layer) = lattice.positions();
         let n = x.len();
         let n_fluid = lattice.n_fluid();
+        let jitter = problem.scene.jitter * lattice.d;
+        if jitter > 0.0 {
+            let mut rng = SplitMix64(0x5eed_5be5);
+            for i in 0..n_fluid {
+                x[i] += jitter * rng.symmetric();
+                y[i] += jitter * rng.symmetric();
+            }
+        }
         let mut vx = vec![0.0; n];
         if problem.initial == Initial::Steady {
             for i in 0..n_fluid {
@@ -81,6 +89,21 @@ impl State {
         }
         self.x0.copy_from_slice(&self.x[..self.n_fluid]);
         self.y0.copy_from_slice(&self.y[..self.n_fluid]);
+    }
+}
+
+/// A small deterministic generator (SplitMix64) for the initial jitter.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// Uniform in [-1, 1).
+    fn symmetric(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        2.0 * ((z >> 11) as f64 / (1u64 << 53) as f64) - 1.0
     }
 }
 
@@ -218,7 +241,11 @@ pub(crate) fn kick_drift(s: &mut State, dt: f64) -> Drift {
                 d.dy_max = d.dy_max.max(ddy);
                 // NaN compares false, so make it show here too.
                 let ay_abs = y[k].abs();
-                d.max_abs_y = if ay_abs.is_nan() { f64::INFINITY } else { d.max_abs_y.max(ay_abs) };
+                d.max_abs_y = if ay_abs.is_nan() {
+                    f64::INFINITY
+                } else {
+                    d.max_abs_y.max(ay_abs)
+                };
             }
             d
         })
@@ -305,7 +332,12 @@ impl Forces {
 /// - viscosity, the Laplacian (14) with the right sign on both components:
 ///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij;
 /// - the body force p along +x.
-pub(crate) fn forces<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+pub(crate) fn forces<K: Kernel>(
+    s: &mut State,
+    list: &NeighbourList,
+    prm: &Params,
+    half_dt: f64,
+) -> Forces {
     if prm.symmetric {
         forces_with::<K, true>(s, list, prm, half_dt)
     } else {
@@ -351,7 +383,11 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
                     }
                     // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
                     let g = K::dw_over_q(q2);
-                    let pij = if SYMMETRIC { pri + p_rho2[j] } else { pi + press[j] };
+                    let pij = if SYMMETRIC {
+                        pri + p_rho2[j]
+                    } else {
+                        pi + press[j]
+                    };
                     px += pij * g * dx;
                     py += pij * g * dy;
                     let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
@@ -366,7 +402,11 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
                     ly += f * dvy;
                 }
                 let inv_rho = 1.0 / rho[i];
-                let p_scale = if SYMMETRIC { prm.mass } else { prm.mass * inv_rho * inv_rho };
+                let p_scale = if SYMMETRIC {
+                    prm.mass
+                } else {
+                    prm.mass * inv_rho * inv_rho
+                };
                 let av = prm.av * inv_rho;
                 let visc = prm.visc * inv_rho;
                 let axi = prm.grad_scale * (-p_scale * px + av * avx + visc * lx) + prm.body;

@@ -1,0 +1,143 @@
+//! The `shearsph` commands. `src/main.rs` parses the command line and calls
+//! one `cli::<command>::main`; each command lives in its own file here, and
+//! the ones that take a scene share [`SceneArgs`].
+
+pub mod c0;
+pub mod run;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::Args;
+
+use crate::scene::Scene;
+
+/// The scene: the built-in one, overridden by `--scene FILE`, then by these
+/// flags.
+#[derive(Debug, Clone, Default, Args)]
+pub struct SceneArgs {
+    /// Scene file (TOML); its fields override the built-in scene's.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Kernel name (see `shearsph kernels`).
+    #[arg(long)]
+    pub kernel: Option<String>,
+    /// N: fluid layers in the half-width (B = N dy).
+    #[arg(long, value_name = "N")]
+    pub n: Option<u32>,
+    /// Reynolds number U B / nu (replaces --p).
+    #[arg(long, conflicts_with = "p")]
+    pub re: Option<f64>,
+    /// Body force per unit mass (replaces --re).
+    #[arg(long)]
+    pub p: Option<f64>,
+    /// Centre-line speed U.
+    #[arg(long)]
+    pub u: Option<f64>,
+    /// Particle spacing d.
+    #[arg(long)]
+    pub d: Option<f64>,
+    /// Smoothing length in units of d.
+    #[arg(long)]
+    pub h_over_d: Option<f64>,
+    /// Rest density.
+    #[arg(long)]
+    pub rho0: Option<f64>,
+    /// Artificial viscosity coefficient, in [0, 1].
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// Sound speed: a number, or [F*]RULE with RULE derived, derived:MODEL,
+    /// rule10 (10 U) or table2 (the paper's printed row).
+    #[arg(long, allow_hyphen_values = true)]
+    pub c0: Option<String>,
+    /// Start from `rest` or from the `steady` profile.
+    #[arg(long)]
+    pub initial: Option<String>,
+    /// End time (default: until the start-up's slowest mode is below
+    /// decay_tol U).
+    #[arg(long, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// Tolerance for the default end time.
+    #[arg(long)]
+    pub decay_tol: Option<f64>,
+    /// Time between diagnostics (default t_end / 20).
+    #[arg(long)]
+    pub output_interval: Option<f64>,
+    /// EOS exponent (1: the paper's (13); above 1: Tait).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+    /// Keep negative pressures instead of clipping them to zero.
+    #[arg(long)]
+    pub allow_negative_pressure: bool,
+    /// Pressure acceleration: `paper` (12) or `symmetric`.
+    #[arg(long)]
+    pub pressure_form: Option<String>,
+    /// Fail the run when the compaction exceeds this.
+    #[arg(long)]
+    pub eps_limit: Option<f64>,
+    /// Random initial displacement of the fluid, in units of d.
+    #[arg(long)]
+    pub jitter: Option<f64>,
+    /// Neighbour-list skin in units of h.
+    #[arg(long)]
+    pub skin: Option<f64>,
+}
+
+impl SceneArgs {
+    /// The flags as scene fields, to lay over the scene file.
+    pub fn overrides(&self) -> toml::Table {
+        use toml::Value;
+        let mut t = toml::Table::new();
+        let mut put = |key: &str, v: Option<Value>| {
+            if let Some(v) = v {
+                t.insert(key.to_string(), v);
+            }
+        };
+        put("kernel", self.kernel.clone().map(Value::String));
+        put("n_layers", self.n.map(|n| Value::Integer(n.into())));
+        put("re", self.re.map(Value::Float));
+        put("p", self.p.map(Value::Float));
+        put("u", self.u.map(Value::Float));
+        put("d", self.d.map(Value::Float));
+        put("h_over_d", self.h_over_d.map(Value::Float));
+        put("rho0", self.rho0.map(Value::Float));
+        put("alpha", self.alpha.map(Value::Float));
+        put("c0", self.c0.clone().map(Value::String));
+        put("initial", self.initial.clone().map(Value::String));
+        put("t_end", self.t_end.map(Value::Float));
+        put("decay_tol", self.decay_tol.map(Value::Float));
+        put("output_interval", self.output_interval.map(Value::Float));
+        put("gamma", self.gamma.map(Value::Float));
+        put(
+            "allow_negative_pressure",
+            self.allow_negative_pressure.then_some(Value::Boolean(true)),
+        );
+        put(
+            "pressure_form",
+            self.pressure_form.clone().map(Value::String),
+        );
+        put("eps_limit", self.eps_limit.map(Value::Float));
+        put("jitter", self.jitter.map(Value::Float));
+        put("skin", self.skin.map(Value::Float));
+        t
+    }
+
+    pub fn load(&self) -> Result<Scene> {
+        Ok(Scene::load(self.scene.as_deref(), self.overrides())?)
+    }
+}
+
+/// Print an error with its causes and give the exit code for it.
+pub fn report(result: Result<ExitCode>) -> ExitCode {
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}

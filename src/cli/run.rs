@@ -1,0 +1,157 @@
+//! `shearsph run`: one scene, with a progress bar; writes the summary, the
+//! profile, the time series and the charts, and prints the summary.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::SceneArgs;
+use crate::kernel::{Kernel, KernelVisitor};
+use crate::kernels;
+use crate::output::{self, Summary};
+use crate::scene::{Problem, Scene};
+use crate::solver::{self, Observer, RunResult, Sample};
+
+/// Exit status of a run that completed but whose outcome is `failed`.
+pub const EXIT_FAILED_RUN: u8 = 3;
+
+/// Run one scene. Exit status 0 when the run is `ok`, 3 when it ended
+/// `failed` (outputs are written either way), 1 on an error.
+#[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Output folder.
+    #[arg(long, default_value = "out/run")]
+    pub out: PathBuf,
+    /// Overwrite the files of an existing output folder.
+    #[arg(long)]
+    pub force: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Print the summary as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn main(args: RunArgs) -> Result<ExitCode> {
+    let scene = args.scene.load()?;
+    // Check everything before touching the output folder.
+    let problem = Problem::new(&scene, scene.kernel_info()?)?;
+    output::prepare_dir(&args.out, args.force)?;
+
+    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(1000);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
+            )
+            .expect("valid template"),
+        );
+        bar
+    };
+    let mut progress = Progress {
+        bar: bar.clone(),
+        t_end: problem.t_end,
+    };
+    let result = run_scene(&scene, &mut progress)?;
+    bar.finish_and_clear();
+
+    output::write_outputs(&args.out, &result, true)?;
+    let summary = Summary::new(&result);
+    if args.json {
+        println!("{}", summary.to_json());
+    } else {
+        print_summary(&summary, &args.out);
+    }
+    Ok(if result.outcome.is_ok() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EXIT_FAILED_RUN)
+    })
+}
+
+/// Run a scene with the kernel it names, dispatched through the registry.
+pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult> {
+    struct Visit<'a> {
+        scene: &'a Scene,
+        observer: &'a mut dyn Observer,
+    }
+    impl KernelVisitor for Visit<'_> {
+        type Output = Result<RunResult, crate::scene::SceneError>;
+        fn visit<K: Kernel>(self) -> Self::Output {
+            solver::simulate::<K>(self.scene, self.observer)
+        }
+    }
+    crate::scene::kernel_info(&scene.kernel)?;
+    let result = kernels::with_kernel(&scene.kernel, Visit { scene, observer })
+        .expect("the registry has a solver for every kernel it lists");
+    Ok(result?)
+}
+
+struct Progress {
+    bar: ProgressBar,
+    t_end: f64,
+}
+
+impl Observer for Progress {
+    fn step(&mut self, t: f64, steps: u64) {
+        if steps.is_multiple_of(256) {
+            self.bar.set_position((1000.0 * t / self.t_end) as u64);
+        }
+    }
+    fn output(&mut self, s: &Sample) {
+        self.bar.set_position((1000.0 * s.t / self.t_end) as u64);
+        self.bar.set_message(format!(
+            "t = {:.4}  Linf = {:.2e}  max eps = {:.2e}",
+            s.t, s.linf_rel_err, s.max_eps
+        ));
+    }
+}
+
+fn print_summary(s: &Summary, out: &std::path::Path) {
+    println!(
+        "{} N = {} ({} particles), Re = {:.4}, U = {}, alpha = {}",
+        s.kernel, s.n_layers, s.particles, s.re, s.u, s.alpha
+    );
+    println!(
+        "c0 = {:.6} ({}), c0 / U = {:.4}",
+        s.c0,
+        s.c0_rule,
+        s.c0 / s.u
+    );
+    println!(
+        "t = {:.6} of {:.6} in {} steps, dt = {:.4e} ({}), {:.2} s, {:.3e} particle-steps/s",
+        s.t,
+        s.t_end,
+        s.steps,
+        s.dt,
+        s.dt_limit.name(),
+        s.wall_s,
+        s.particle_steps_per_s
+    );
+    println!(
+        "error / U: Linf = {:.4e}, L2 = {:.4e}; max eps = {:.4e}, mean eps = {:.4e}, RMS v / U = {:.4e}",
+        s.linf_rel_err,
+        s.l2_rel_err,
+        s.max_eps,
+        s.mean_eps,
+        s.rms_v / s.u
+    );
+    match &s.failure_reason {
+        None => println!("outcome: ok"),
+        Some(reason) => println!(
+            "outcome: failed at t = {:.6}: {reason}",
+            s.failure_t.unwrap_or(f64::NAN)
+        ),
+    }
+    println!("outputs in {}", out.display());
+}

@@ -1,0 +1,475 @@
+//! A run's outputs in one folder: `summary.json`, `profile.csv`,
+//! `timeseries.csv`, `scene.toml` (the scene as run) and the charts
+//! `profile.svg` and `timeseries.svg`. Every file is written to a temporary
+//! file in the same folder and renamed into place, so a reader never sees
+//! half a file; an existing non-empty folder is not touched without `force`.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use plotters::prelude::*;
+use serde::Serialize;
+
+use crate::solver::{Outcome, RunResult, Sample};
+
+/// The figures of one run, as `summary.json` and `shearsph run --json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub kernel: String,
+    pub n_layers: u32,
+    /// All particles, fluid and wall.
+    pub particles: usize,
+    pub fluid_particles: usize,
+    pub wall_particles: usize,
+    pub d: f64,
+    pub h: f64,
+    /// Half-width B = N dy.
+    pub b: f64,
+    pub u: f64,
+    pub re: f64,
+    pub nu: f64,
+    pub p: f64,
+    pub alpha: f64,
+    pub initial: crate::scene::Initial,
+    pub t_end: f64,
+    /// Time reached (below t_end when the run failed).
+    pub t: f64,
+    pub steps: u64,
+    /// The last full step's dt and the limit that bound it.
+    pub dt: f64,
+    pub dt_limit: crate::solver::DtLimit,
+    pub dt_min: f64,
+    pub dt_max: f64,
+    /// Steps bound by each limit.
+    pub dt_limit_steps: DtLimitSteps,
+    pub c0: f64,
+    pub c0_rule: String,
+    pub wall_s: f64,
+    /// Particles (fluid and wall) times steps per wall-clock second.
+    pub particle_steps_per_s: f64,
+    /// Errors of the layer-mean velocity relative to U at the end, against
+    /// the start-up series (from rest) or (7) (from the steady profile).
+    pub linf_rel_err: f64,
+    pub l2_rel_err: f64,
+    /// Largest L_inf error over the output times.
+    pub linf_rel_err_max: f64,
+    /// Largest fluid compaction over every step of the run.
+    pub max_eps: f64,
+    /// Mean fluid compaction at the end.
+    pub mean_eps: f64,
+    /// RMS transverse velocity of the fluid at the end.
+    pub rms_v: f64,
+    pub kinetic_energy: f64,
+    pub neighbour_rebuilds: u64,
+    /// `ok` or `failed`.
+    pub outcome: &'static str,
+    pub failure_reason: Option<String>,
+    pub failure_t: Option<f64>,
+    pub failure_step: Option<u64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct DtLimitSteps {
+    pub cfl: u64,
+    pub viscous: u64,
+    pub force: u64,
+}
+
+impl Summary {
+    pub fn new(r: &RunResult) -> Summary {
+        let pr = &r.problem;
+        let last = r.last();
+        let (outcome, failure_reason, failure_t, failure_step) = match &r.outcome {
+            Outcome::Ok => ("ok", None, None, None),
+            Outcome::Failed { failure, t, step } => {
+                ("failed", Some(failure.to_string()), Some(*t), Some(*step))
+            }
+        };
+        let particles = r.n_fluid + r.n_wall;
+        Summary {
+            kernel: r.kernel.to_string(),
+            n_layers: pr.lattice.n_layers,
+            particles,
+            fluid_particles: r.n_fluid,
+            wall_particles: r.n_wall,
+            d: pr.lattice.d,
+            h: pr.lattice.h,
+            b: pr.flow.b,
+            u: pr.flow.u,
+            re: pr.re,
+            nu: pr.flow.nu,
+            p: pr.flow.p,
+            alpha: pr.scene.alpha,
+            initial: pr.initial,
+            t_end: pr.t_end,
+            t: r.t,
+            steps: r.steps,
+            dt: r.dt.last,
+            dt_limit: r.dt.last_limit,
+            dt_min: r.dt.min.min(r.dt.last),
+            dt_max: r.dt.max.max(r.dt.last),
+            dt_limit_steps: DtLimitSteps {
+                cfl: r.dt.cfl_steps,
+                viscous: r.dt.viscous_steps,
+                force: r.dt.force_steps,
+            },
+            c0: pr.c0,
+            c0_rule: pr.c0_rule.clone(),
+            wall_s: r.wall_s,
+            particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
+            linf_rel_err: last.linf_rel_err,
+            l2_rel_err: last.l2_rel_err,
+            linf_rel_err_max: r.samples.iter().map(|s| s.linf_rel_err).fold(0.0, nan_max),
+            max_eps: r.max_eps_run,
+            mean_eps: last.mean_eps,
+            rms_v: last.rms_v,
+            kinetic_energy: last.kinetic_energy,
+            neighbour_rebuilds: r.neighbour_rebuilds,
+            outcome,
+            failure_reason,
+            failure_t,
+            failure_step,
+        }
+    }
+
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a summary serialises")
+    }
+}
+
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// Make sure `dir` can take a run's outputs: create it, or refuse when it
+/// exists with files in it and `force` is not set. Call before running, so a
+/// refused folder costs nothing.
+pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
+    if dir.exists() {
+        if !dir.is_dir() {
+            bail!("output path {} exists and is not a folder", dir.display());
+        }
+        let non_empty = std::fs::read_dir(dir)
+            .with_context(|| format!("reading output folder {}", dir.display()))?
+            .next()
+            .is_some();
+        if non_empty && !force {
+            bail!(
+                "output folder {} already exists and is not empty; pass --force to overwrite its files, or choose \
+                 another with --out",
+                dir.display()
+            );
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating output folder {}", dir.display()))
+}
+
+/// Write `bytes` to `path` atomically: a temporary file in the same folder,
+/// renamed over the target.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".tmp-")
+        .tempfile_in(dir)
+        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
+    tmp.write_all(bytes)
+        .with_context(|| format!("writing {}", path.display()))?;
+    tmp.as_file().sync_all().ok();
+    tmp.persist(path)
+        .with_context(|| format!("renaming into {}", path.display()))?;
+    Ok(())
+}
+
+/// Write every output of `result` into `dir` (see [`prepare_dir`]).
+pub fn write_outputs(dir: &Path, result: &RunResult, force: bool) -> Result<()> {
+    prepare_dir(dir, force)?;
+    write_atomic(
+        &dir.join("summary.json"),
+        Summary::new(result).to_json().as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("scene.toml"),
+        result.problem.scene.to_toml().as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("profile.csv"),
+        profile_csv(result.last()).as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("timeseries.csv"),
+        timeseries_csv(&result.samples).as_bytes(),
+    )?;
+    write_atomic(&dir.join("profile.svg"), profile_svg(result)?.as_bytes())?;
+    write_atomic(
+        &dir.join("timeseries.svg"),
+        timeseries_svg(result)?.as_bytes(),
+    )?;
+    Ok(())
+}
+
+/// The layer profile of one sample.
+pub fn profile_csv(s: &Sample) -> String {
+    let mut out = String::from("layer,y,u,u_analytic,u_steady,v_rms\n");
+    for l in &s.profile {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{}",
+            l.layer, l.y, l.u, l.u_analytic, l.u_steady, l.v_rms
+        );
+    }
+    out
+}
+
+pub fn timeseries_csv(samples: &[Sample]) -> String {
+    let mut out =
+        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy\n");
+    for s in samples {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{}",
+            s.t,
+            s.step,
+            s.dt,
+            s.linf_rel_err,
+            s.l2_rel_err,
+            s.max_eps,
+            s.mean_eps,
+            s.rms_v,
+            s.kinetic_energy
+        );
+    }
+    out
+}
+
+const SIZE: (u32, u32) = (900, 650);
+
+fn chart_err<E: std::error::Error + Send + Sync + 'static>(
+    e: DrawingAreaErrorKind<E>,
+) -> anyhow::Error {
+    anyhow::anyhow!("drawing a chart: {e}")
+}
+
+/// u / U against y / B: the SPH layer means at a few output times (points)
+/// and the analytic reference at the same times (lines).
+pub fn profile_svg(r: &RunResult) -> Result<String> {
+    let flow = r.problem.flow;
+    let from_rest = r.problem.initial == crate::scene::Initial::Rest;
+    // Up to five samples, spread over the run, always the last.
+    let n = r.samples.len();
+    let mut picks: Vec<usize> = (1..=5).map(|k| k * (n - 1) / 5).collect();
+    picks.dedup();
+    let u_max = r
+        .samples
+        .iter()
+        .flat_map(|s| s.profile.iter().map(|l| l.u.abs()))
+        .filter(|u| u.is_finite())
+        .fold(flow.u, f64::max);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(chart_err)?;
+        let title = format!(
+            "{} N = {} Re = {:.3} c0 = {:.3} U ({})",
+            r.kernel,
+            r.problem.lattice.n_layers,
+            r.problem.re,
+            r.problem.c0 / flow.u,
+            r.problem.c0_rule
+        );
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(55)
+            .build_cartesian_2d(0.0..1.05 * u_max / flow.u, -1.0..1.0)
+            .map_err(chart_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("u / U")
+            .y_desc("y / B")
+            .draw()
+            .map_err(chart_err)?;
+        for (k, &i) in picks.iter().enumerate() {
+            let s = &r.samples[i];
+            let color = Palette99::pick(k).to_rgba();
+            let curve = (0..=200).map(|m| {
+                let y = -flow.b + 2.0 * flow.b * m as f64 / 200.0;
+                let u = if from_rest {
+                    flow.startup(y, s.t)
+                } else {
+                    flow.steady(y)
+                };
+                (u / flow.u, y / flow.b)
+            });
+            chart
+                .draw_series(LineSeries::new(curve, color.stroke_width(2)))
+                .map_err(chart_err)?
+                .label(format!("t = {:.4}", s.t))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            let points = s
+                .profile
+                .iter()
+                .filter(|l| l.u.is_finite() && l.y.is_finite())
+                .map(|l| Circle::new((l.u / flow.u, l.y / flow.b), 3, color.filled()));
+            chart.draw_series(points).map_err(chart_err)?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(chart_err)?;
+        root.present().map_err(chart_err)?;
+    }
+    Ok(svg)
+}
+
+/// Errors (log scale), compaction and transverse pulsation over time.
+pub fn timeseries_svg(r: &RunResult) -> Result<String> {
+    let s = &r.samples;
+    let t_max = s.last().map_or(1.0, |l| l.t).max(1e-12);
+    let u = r.problem.flow.u;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (SIZE.0, 900)).into_drawing_area();
+        root.fill(&WHITE).map_err(chart_err)?;
+        let panels = root.split_evenly((3, 1));
+
+        // Errors, on a log scale (the error at t = 0 is zero: skipped).
+        let err_points = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+            s.iter()
+                .map(|x| (x.t, f(x)))
+                .filter(|p| p.1 > 0.0 && p.1.is_finite())
+                .collect()
+        };
+        let linf = err_points(|x| x.linf_rel_err);
+        let l2 = err_points(|x| x.l2_rel_err);
+        let (lo, hi) = linf
+            .iter()
+            .chain(&l2)
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
+                (lo.min(p.1), hi.max(p.1))
+            });
+        let (lo, hi) = if lo < hi {
+            (lo / 2.0, hi * 2.0)
+        } else {
+            (1e-6, 1.0)
+        };
+        let mut chart = ChartBuilder::on(&panels[0])
+            .caption("velocity error / U (layer means)", ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..t_max, (lo..hi).log_scale())
+            .map_err(chart_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("t")
+            .draw()
+            .map_err(chart_err)?;
+        for (pts, name, color) in [(linf, "L_inf", RED), (l2, "L2", BLUE)] {
+            chart
+                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                .map_err(chart_err)?
+                .label(name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(chart_err)?;
+
+        // Compaction.
+        let finite = |v: f64| if v.is_finite() { Some(v) } else { None };
+        let eps: Vec<(f64, f64, f64)> = s
+            .iter()
+            .filter_map(|x| Some((x.t, finite(x.max_eps)?, finite(x.mean_eps)?)))
+            .collect();
+        let (lo, hi) = eps
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+                (lo.min(e.2).min(e.1), hi.max(e.1))
+            });
+        let pad = ((hi - lo) * 0.1).max(1e-6);
+        let (lo, hi) = if lo <= hi {
+            (lo - pad, hi + pad)
+        } else {
+            (-1.0, 1.0)
+        };
+        let mut chart = ChartBuilder::on(&panels[1])
+            .caption("compaction eps = rho/rho0 - 1 (fluid)", ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..t_max, lo..hi)
+            .map_err(chart_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("t")
+            .draw()
+            .map_err(chart_err)?;
+        chart
+            .draw_series(LineSeries::new(
+                eps.iter().map(|e| (e.0, e.1)),
+                RED.stroke_width(2),
+            ))
+            .map_err(chart_err)?
+            .label("max")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+        chart
+            .draw_series(LineSeries::new(
+                eps.iter().map(|e| (e.0, e.2)),
+                BLUE.stroke_width(2),
+            ))
+            .map_err(chart_err)?
+            .label("mean")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(chart_err)?;
+
+        // Transverse pulsation.
+        let v: Vec<(f64, f64)> = s
+            .iter()
+            .filter_map(|x| Some((x.t, finite(x.rms_v / u)?)))
+            .collect();
+        let hi = v.iter().map(|p| p.1).fold(0.0f64, f64::max).max(1e-12) * 1.1;
+        let mut chart = ChartBuilder::on(&panels[2])
+            .caption("RMS transverse velocity / U", ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..t_max, 0.0..hi)
+            .map_err(chart_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("t")
+            .draw()
+            .map_err(chart_err)?;
+        chart
+            .draw_series(LineSeries::new(v, GREEN.stroke_width(2)))
+            .map_err(chart_err)?;
+        root.present().map_err(chart_err)?;
+    }
+    Ok(svg)
+}
