@@ -69,9 +69,9 @@ pub struct StencilPoint {
     pub r2: f64,
 }
 
-/// One model of the c0 derivation: the polynomial a c0^2 + b alpha (U/N^2) c0
-/// + c p d = 0 and its root c0 = (U/N^2) (sqrt(P alpha^2 + Q A) - S alpha),
-/// A = p d N^4 / U^2.
+/// One model of the c0 derivation: the polynomial
+/// `a c0^2 + b alpha (U/N^2) c0 + c p d = 0` and its root
+/// `c0 = (U/N^2) (sqrt(P alpha^2 + Q A) - S alpha)`, `A = p d N^4 / U^2`.
 #[derive(Debug, Clone, Copy)]
 pub struct C0Model {
     pub name: &'static str,
@@ -86,11 +86,14 @@ pub struct C0Model {
 
 impl C0Model {
     /// The model sound speed for a scene: u_max = U, n_layers = N, p the body
-    /// force, d the particle spacing, alpha the artificial viscosity.
+    /// force, d the particle spacing, alpha the artificial viscosity. NaN or
+    /// not positive when the derivation has no positive root for the scene
+    /// (e.g. Q < 0 with S > 0).
     pub fn c0(&self, u_max: f64, n_layers: f64, p: f64, d: f64, alpha: f64) -> f64 {
         let scale = u_max / (n_layers * n_layers);
         let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
-        scale * ((self.p.value * alpha * alpha + self.q.value * a_big).sqrt() - self.s.value * alpha)
+        scale
+            * ((self.p.value * alpha * alpha + self.q.value * a_big).sqrt() - self.s.value * alpha)
     }
 }
 
