@@ -2,7 +2,7 @@
 // Source: kernels/morris.toml
 
 use crate::kernel::{
-    C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, StencilPoint,
+    C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, PrintedEps, StencilPoint,
 };
 /// Morris quintic spline (R = 3).
 ///
@@ -95,18 +95,50 @@ fn row(phase: f64, y2: f64) -> f64 {
     }
     sum
 }
-/// eps(t, n) = rho/rho0 - 1 for an interior particle of layer n under the
-/// ideal shear (7), t as a fraction of T = d N^2 / U (h = d).
-pub fn eps_at(t: f64, n: u32) -> f64 {
+/// eps(t, n) = rho/rho0 - 1 for a particle of layer n under the ideal
+/// shear (7), t as a fraction of T = d N^2 / U (h = d); `walls = Some(N)`
+/// for fixed walls at |j| >= N, `None` for an interior particle.
+pub fn eps_at(t: f64, n: u32, walls: Option<u32>) -> f64 {
     let n = n as f64;
+    let walls = walls.map(|nl| nl as f64);
     let mut sum = 0.0;
-    sum += row(0.5 - (-6.0 * n + 9.0) * t, 6.75);
-    sum += row(0.0 - (-4.0 * n + 4.0) * t, 3.0);
-    sum += row(0.5 - (-2.0 * n + 1.0) * t, 0.75);
+    let j = n + -3.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.5 + speed * t, 6.75);
+    let j = n + -2.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.0 + speed * t, 3.0);
+    let j = n + -1.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.5 + speed * t, 0.75);
     sum += row(0.0, 0.0);
-    sum += row(0.5 - (2.0 * n + 1.0) * t, 0.75);
-    sum += row(0.0 - (4.0 * n + 4.0) * t, 3.0);
-    sum += row(0.5 - (6.0 * n + 9.0) * t, 6.75);
+    let j = n + 1.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.5 + speed * t, 0.75);
+    let j = n + 2.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.0 + speed * t, 3.0);
+    let j = n + 3.0;
+    let speed = match walls {
+        Some(nl) if j.abs() >= nl => n * n - nl * nl,
+        _ => n * n - j * j,
+    };
+    sum += row(0.5 + speed * t, 6.75);
     0.8660254037844386 * sum - 1.0
 }
 /// Everything the derivation found; see `shearsph-codegen show`.
@@ -654,5 +686,10 @@ pub const INFO: KernelInfo = KernelInfo {
         },
     ],
     eps_at,
+    printed_eps: Some(PrintedEps {
+        t0: "-0.000131",
+        half_period: "0.000094",
+        mean: "-0.000043",
+    }),
     flops_per_pair: 29u32,
 };

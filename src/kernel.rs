@@ -116,6 +116,14 @@ impl PrintedC0 {
     }
 }
 
+/// The paper's Table 1 row for a kernel: eps at 0, at 0.5 T, and its mean.
+#[derive(Debug, Clone, Copy)]
+pub struct PrintedEps {
+    pub t0: &'static str,
+    pub half_period: &'static str,
+    pub mean: &'static str,
+}
+
 /// All the generator knows about a kernel, as data for programs.
 #[derive(Debug, Clone, Copy)]
 pub struct KernelInfo {
@@ -135,9 +143,13 @@ pub struct KernelInfo {
     /// maximum-compaction configuration t = 0.5 T, for h = d.
     pub stencil_t0: &'static [StencilPoint],
     pub stencil_half: &'static [StencilPoint],
-    /// eps(t, n) for an interior particle of layer n (far from the walls),
-    /// t as a fraction of T; an unrolled sum over the layers in reach.
-    pub eps_at: fn(t: f64, n: u32) -> f64,
+    /// eps(t, n) for a particle of layer n, t as a fraction of T; an
+    /// unrolled sum over the layers in reach. `walls = Some(N)` puts fixed
+    /// wall layers at |j| >= N (u = 0); `None` is an interior particle.
+    pub eps_at: fn(t: f64, n: u32, walls: Option<u32>) -> f64,
+    /// The paper's printed Table 1 row, as printed (strings keep the printed
+    /// precision), when the kernel is one of the paper's.
+    pub printed_eps: Option<PrintedEps>,
     /// Floating-point operations per pair evaluation of (w, dw_over_q), as
     /// counted by the generator in the emitted code.
     pub flops_per_pair: u32,

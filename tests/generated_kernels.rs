@@ -82,18 +82,24 @@ fn emitted_eps_curve_matches_the_high_precision_one() {
     for def in defs() {
         let info = kernel_info(&def.name).unwrap();
         let fr = FloatRadial::new(&def.w, 128);
-        for n in 0..4u32 {
-            let curve = EpsCurve::new(&fr, &def.support, Site { n: n as i64, n_layers: None });
+        // interior particles, and particles near walls at N = 6
+        for (n, walls) in [(0, None), (1, None), (3, None), (2, Some(6)), (5, Some(6))] {
+            let site = Site { n: n as i64, n_layers: walls.map(|w: u32| w as i64) };
+            let curve = EpsCurve::new(&fr, &def.support, site);
             for j in 0..=200 {
                 let t = j as f64 / 200.0;
                 let want = curve.eval(&Float::with_val(128, t)).to_f64();
-                let got = (info.eps_at)(t, n);
-                assert!((got - want).abs() < 1e-13, "{} eps({t}, {n}) = {got}, want {want}", def.name);
+                let got = (info.eps_at)(t, n, walls);
+                assert!(
+                    (got - want).abs() < 1e-13,
+                    "{} eps({t}, {n}, {walls:?}) = {got}, want {want}",
+                    def.name
+                );
             }
         }
         // the emitted constants are the derivation's
-        assert!(((info.eps_at)(0.0, 0) - info.eps.t0.value).abs() < 1e-15);
-        assert!(((info.eps_at)(0.5, 0) - info.eps.half_period.value).abs() < 1e-15);
+        assert!(((info.eps_at)(0.0, 0, None) - info.eps.t0.value).abs() < 1e-15);
+        assert!(((info.eps_at)(0.5, 0, None) - info.eps.half_period.value).abs() < 1e-15);
     }
 }
 

@@ -285,6 +285,13 @@ pub fn kernel_module(a: &Analysis) -> String {
         }
         None => quote!(None),
     };
+    let printed_eps = match d.paper.as_ref() {
+        Some(p) => {
+            let (t0, h, m) = (&p.table1.t0, &p.table1.half_period, &p.table1.mean);
+            quote!(Some(PrintedEps { t0: #t0, half_period: #h, mean: #m }))
+        }
+        None => quote!(None),
+    };
     let st0 = stencil_tokens(&a.terms_t0.iter().map(|t| t.nb.clone()).collect::<Vec<_>>());
     let sth = stencil_tokens(
         &a.terms_half
@@ -302,9 +309,17 @@ pub fn kernel_module(a: &Analysis) -> String {
         }
         let ph = lit(phase0(k).to_f64());
         let y2 = lit(0.75 * (k * k) as f64);
-        // layer n + k moves by -k (2n + k) tau = -(2k n + k^2) tau relative to the particle
-        let (a2, b2) = (lit((2 * k) as f64), lit((k * k) as f64));
-        quote! { sum += row(#ph - (#a2 * n + #b2) * t, #y2); }
+        let kk = lit(k as f64);
+        // layer j = n + k moves by (n^2 - j^2) tau relative to the particle, a
+        // wall layer (|j| >= N) by (n^2 - N^2) tau
+        quote! {
+            let j = n + #kk;
+            let speed = match walls {
+                Some(nl) if j.abs() >= nl => n * n - nl * nl,
+                _ => n * n - j * j,
+            };
+            sum += row(#ph + speed * t, #y2);
+        }
     });
     let reach = d.support.to_f64().ceil() as i32 + 1;
 
@@ -330,7 +345,7 @@ pub fn kernel_module(a: &Analysis) -> String {
     ));
     let default_model = DEFAULT_MODEL;
     let tokens = quote! {
-        use crate::kernel::{C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, StencilPoint};
+        use crate::kernel::{C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, PrintedEps, StencilPoint};
 
         #doc_struct
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -367,10 +382,12 @@ pub fn kernel_module(a: &Analysis) -> String {
             sum
         }
 
-        /// eps(t, n) = rho/rho0 - 1 for an interior particle of layer n under the
-        /// ideal shear (7), t as a fraction of T = d N^2 / U (h = d).
-        pub fn eps_at(t: f64, n: u32) -> f64 {
+        /// eps(t, n) = rho/rho0 - 1 for a particle of layer n under the ideal
+        /// shear (7), t as a fraction of T = d N^2 / U (h = d); `walls = Some(N)`
+        /// for fixed walls at |j| >= N, `None` for an interior particle.
+        pub fn eps_at(t: f64, n: u32, walls: Option<u32>) -> f64 {
             let n = n as f64;
+            let walls = walls.map(|nl| nl as f64);
             let mut sum = 0.0;
             #(#rows)*
             0.8660254037844386 * sum - 1.0
@@ -390,6 +407,7 @@ pub fn kernel_module(a: &Analysis) -> String {
             stencil_t0: #st0,
             stencil_half: #sth,
             eps_at,
+            printed_eps: #printed_eps,
             flops_per_pair: #flops,
         };
     };
