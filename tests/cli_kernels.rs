@@ -1,0 +1,61 @@
+//! `shearsph kernels` prints every generated kernel, as a table and as JSON,
+//! with the generated constants.
+
+use shearsph::kernels::KERNELS;
+use std::process::Command;
+
+/// serde_json's default float parsing is within an ulp, not always exact.
+fn close(a: &serde_json::Value, b: f64) -> bool {
+    let a = a.as_f64().unwrap();
+    (a - b).abs() <= 1e-15 * b.abs()
+}
+
+fn shearsph(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn kernels_json_lists_every_kernel_with_its_constants() {
+    let out = shearsph(&["kernels", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let list = v.as_array().unwrap();
+    assert_eq!(list.len(), KERNELS.len());
+    for (j, k) in list.iter().zip(KERNELS) {
+        assert_eq!(j["kernel"], k.name);
+        assert!(close(&j["support"], k.support));
+        assert!(close(
+            &j["eps"]["half_period"]["value"],
+            k.eps.half_period.value
+        ));
+        assert!(close(&j["eps"]["t_max"]["value"], k.eps.t_max.value));
+        assert_eq!(j["c0"]["default"], k.c0_default);
+        let m = k.default_c0_model();
+        assert!(close(&j["c0"]["models"][m.name]["S"], m.s.value));
+    }
+}
+
+#[test]
+fn kernels_table_names_every_kernel_and_flags_missing_roots() {
+    let out = shearsph(&["kernels", "--models"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for k in KERNELS {
+        assert!(text.contains(k.name), "{text}");
+        for m in k.c0_models {
+            let no_root = m.q.value <= 0.0 && m.s.value >= 0.0;
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(k.name) && l.split_whitespace().nth(1) == Some(m.name))
+                .unwrap_or_else(|| panic!("row for {} {}", k.name, m.name));
+            assert_eq!(line.contains("no positive root"), no_root, "{line}");
+        }
+    }
+}
