@@ -17,6 +17,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Every kernel: support, eps at 0 and 0.5 T, true extremes and where, mean, c0 coefficients.
+    Kernels(cli::kernels::KernelsArgs),
     /// Run one scene: progress bar; summary, profile, time series, charts.
     Run(cli::run::RunArgs),
     /// c0 for a kernel and a scene by every rule, with the time step each implies.
@@ -25,6 +27,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
+        Command::Kernels(args) => cli::kernels::main(args),
         Command::Run(args) => cli::run::main(args),
         Command::C0(args) => cli::c0::main(args),
     };

@@ -3,6 +3,7 @@
 //! the ones that take a scene share [`SceneArgs`].
 
 pub mod c0;
+pub mod kernels;
 pub mod run;
 
 use std::path::PathBuf;
