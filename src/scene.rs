@@ -344,7 +344,8 @@ impl Scene {
             .try_into()
             .map_err(|e: toml::de::Error| SceneError::Read {
                 origin,
-                message: e.message().trim().to_string(),
+                // "... \nin `field`" on one line.
+                message: e.to_string().trim().replace('\n', " "),
             })
     }
 
@@ -352,7 +353,7 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
         toml::from_str(text).map_err(|e| SceneError::Read {
             origin: "scene".into(),
-            message: e.message().trim().to_string(),
+            message: e.to_string().trim().to_string(),
         })
     }
 
@@ -601,7 +602,11 @@ fn resolve_c0(
     } else {
         Err(invalid(
             "c0",
-            format!("{spec} gives c0 = {c0} for this scene, which is not a positive sound speed; give a number"),
+            format!(
+                "{spec} gives c0 = {c0} for this scene, which is not a positive sound speed (a derived \
+                 model without a positive root, or a non-positive number); give a positive number or \
+                 another rule (`shearsph c0` lists them)"
+            ),
         ))
     }
 }

@@ -14,7 +14,7 @@ use crate::solver::{DtLimit, TimeStep};
 
 /// c0 by every rule for a scene, and the time step each implies.
 #[derive(Debug, Args)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_negative_numbers = true, args_override_self = true)]
 pub struct C0Args {
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -29,16 +29,23 @@ pub struct C0Row {
     /// Rule in scene syntax (`derived:MODEL`, `rule10`, `table2`), or the
     /// scene's own c0 when it is not one of those.
     pub rule: String,
+    /// NaN (null in JSON) or not positive when the rule gives no sound speed
+    /// for this scene (a derived model without a positive root).
     pub c0: f64,
     pub c0_over_u: f64,
     /// The time step with |v|max = U and |a|max = p (the body force), the
-    /// limits it is the smallest of, and which binds.
+    /// limit that binds, each limit, and the steps to t_end at that dt; none
+    /// when c0 is not a positive number.
+    pub cost: Option<Cost>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Cost {
     pub dt: f64,
     pub dt_limit: DtLimit,
     pub dt_cfl: f64,
     pub dt_viscous: f64,
     pub dt_force: f64,
-    /// Steps to t_end at that dt.
     pub steps: f64,
 }
 
@@ -79,12 +86,14 @@ pub fn table(scene: &Scene) -> Result<C0Table> {
             rule,
             c0,
             c0_over_u: c0 / base.flow.u,
-            dt: ts.dt,
-            dt_limit: ts.limit,
-            dt_cfl: ts.cfl,
-            dt_viscous: ts.viscous,
-            dt_force: ts.force,
-            steps: (base.t_end / ts.dt).ceil(),
+            cost: (c0 > 0.0 && c0.is_finite()).then(|| Cost {
+                dt: ts.dt,
+                dt_limit: ts.limit,
+                dt_cfl: ts.cfl,
+                dt_viscous: ts.viscous,
+                dt_force: ts.force,
+                steps: (base.t_end / ts.dt).ceil(),
+            }),
         }
     };
     let mut rows = Vec::new();
@@ -138,17 +147,23 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
         "rule", "c0", "c0/U", "dt", "limit", "dt_cfl", "dt_viscous", "steps"
     );
     for r in &t.rows {
-        println!(
-            "{:<24} {:>12.6} {:>10.4} {:>12.4e} {:>8} {:>12.4e} {:>12.4e} {:>10}",
-            r.rule,
-            r.c0,
-            r.c0_over_u,
-            r.dt,
-            r.dt_limit.name(),
-            r.dt_cfl,
-            r.dt_viscous,
-            r.steps
-        );
+        match &r.cost {
+            Some(c) => println!(
+                "{:<24} {:>12.6} {:>10.4} {:>12.4e} {:>8} {:>12.4e} {:>12.4e} {:>10}",
+                r.rule,
+                r.c0,
+                r.c0_over_u,
+                c.dt,
+                c.dt_limit.name(),
+                c.dt_cfl,
+                c.dt_viscous,
+                c.steps
+            ),
+            None => println!(
+                "{:<24} {:>12.6}   no positive sound speed for this scene",
+                r.rule, r.c0
+            ),
+        }
     }
     if let Some(e) = &t.scene_c0_error {
         println!("the scene's own c0 ({}) does not resolve: {e}", t.scene_c0);

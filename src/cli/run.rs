@@ -22,7 +22,7 @@ pub const EXIT_FAILED_RUN: u8 = 3;
 /// Run one scene. Exit status 0 when the run is `ok`, 3 when it ended
 /// `failed` (outputs are written either way), 1 on an error.
 #[derive(Debug, Args)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_negative_numbers = true, args_override_self = true)]
 pub struct RunArgs {
     #[command(flatten)]
     pub scene: SceneArgs,

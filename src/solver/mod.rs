@@ -21,7 +21,7 @@ use serde::Serialize;
 
 use crate::kernel::Kernel;
 use crate::scene::{Problem, Scene, SceneError};
-use neighbours::NeighbourList;
+use neighbours::{Displacements, NeighbourList};
 use step::{Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
@@ -274,9 +274,12 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     let prm = Params::new(problem);
     let skin = problem.scene.skin * h;
     let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
+    // Blocks for the rebuild rule: the lattice layers, stored in turn.
+    let block = lat.columns as usize;
+    let mut motion = Vec::with_capacity(lat.fluid_layers() as usize);
     let mut list = NeighbourList::default();
     s.wrap(lat.width);
-    list.build(&s.x, &s.y, lat.width, cutoff);
+    list.build(&s.x, &s.y, lat.width, cutoff, block);
     let mean_neighbours = list.pairs() as f64 / s.x.len() as f64;
 
     let mut max_eps = step::density::<K>(&mut s, &list, &prm);
@@ -301,7 +304,16 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     let mut t = 0.0;
     let mut steps = 0u64;
     let mut outputs_done = 0u64;
-    let next_output = |k: u64| ((k + 1) as f64 * problem.output_interval).min(t_end);
+    // Output k (from 0) at (k + 1) intervals; the last one at t_end exactly,
+    // also when t_end is a multiple of the interval up to round-off.
+    let next_output = |k: u64| {
+        let t = (k + 1) as f64 * problem.output_interval;
+        if t >= t_end * (1.0 - 1e-9) {
+            t_end
+        } else {
+            t
+        }
+    };
     let mut outcome = Outcome::Ok;
     while t < t_end {
         let ts = TimeStep::new(h, problem.c0, nu, forces.v_max, forces.a_max);
@@ -312,10 +324,11 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
             dt_stats.record(&ts);
         }
 
-        let drift = step::kick_drift(&mut s, dt);
-        if drift.spread() > skin {
+        step::kick_drift(&mut s, dt, block, &mut motion);
+        let max_abs_y = motion.iter().fold(0.0f64, |m, b| m.max(b.1));
+        if list.stale(|b| motion.get(b).map_or(Displacements::ZERO, |m| m.0), skin) {
             s.wrap(lat.width);
-            list.build(&s.x, &s.y, lat.width, cutoff);
+            list.build(&s.x, &s.y, lat.width, cutoff, block);
         }
         max_eps = step::density::<K>(&mut s, &list, &prm);
         max_eps_run = max_eps_run.max(max_eps);
@@ -331,9 +344,9 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
                 v: forces.v_max,
                 limit: problem.v_limit,
             })
-        } else if drift.max_abs_y >= lat.b() {
+        } else if max_abs_y >= lat.b() {
             Some(Failure::ThroughWall {
-                y: drift.max_abs_y,
+                y: max_abs_y,
                 b: lat.b(),
             })
         } else if max_eps > problem.scene.eps_limit {

@@ -3,15 +3,21 @@
 //!
 //! Layout: a padded table, `stride` slots per particle and a count, so each
 //! particle's list is one contiguous slice, filled in parallel without
-//! sharing. Order within a list is fixed (bins bottom to top, particle index,
-//! image), so every sum over it is the same whatever the thread count.
+//! sharing. Order within a list is fixed (by distance at the rebuild, ties
+//! by particle index and image), so every sum over it is the same whatever
+//! the thread count.
 //!
 //! Rebuild rule: a pair not in the list was more than R h + skin apart; it
 //! can only have come within R h if the two displacements since the rebuild
-//! differ by more than `skin`. Any two displacements differ by at most the
-//! diagonal of their bounding box, so the list stays exact while that
-//! diagonal is at most `skin`. (The walls never move, so the box always
-//! holds the origin; in shear it grows as U t.)
+//! differ by more than `skin`. Particles are grouped in blocks (the lattice
+//! layers they started in), and each block's displacements since the rebuild
+//! are bounded by a box. Two displacements differ by at most the diagonal of
+//! the union of their blocks' boxes; only blocks that were within R h + skin
+//! of each other in y at the rebuild need that check, provided no two
+//! transverse displacements differ by more than `skin` either. In shear the
+//! whole fluid's box grows as U t, but that of neighbouring layers only as
+//! (dU/dy) (R h) t, so the list lives about B / (R h) times longer than with
+//! one box for all.
 
 use rayon::prelude::*;
 
@@ -29,7 +35,61 @@ pub struct NeighbourList {
     /// sorted by bin, and where each bin starts.
     bin_start: Vec<u32>,
     bin_items: Vec<u32>,
+    /// For each block a, the blocks b > a within the cutoff of it in y at the
+    /// rebuild: `near[near_start[a]..near_start[a + 1]]`.
+    near_start: Vec<u32>,
+    near: Vec<u32>,
     pub rebuilds: u64,
+}
+
+/// The box bounding the displacements of a block of particles since the
+/// last rebuild.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Displacements {
+    pub dx_min: f64,
+    pub dx_max: f64,
+    pub dy_min: f64,
+    pub dy_max: f64,
+}
+
+impl Displacements {
+    /// No displacement yet: add some.
+    pub const EMPTY: Displacements = Displacements {
+        dx_min: f64::INFINITY,
+        dx_max: f64::NEG_INFINITY,
+        dy_min: f64::INFINITY,
+        dy_max: f64::NEG_INFINITY,
+    };
+
+    /// Particles that never moved (the walls).
+    pub const ZERO: Displacements = Displacements {
+        dx_min: 0.0,
+        dx_max: 0.0,
+        dy_min: 0.0,
+        dy_max: 0.0,
+    };
+
+    #[inline]
+    pub fn add(&mut self, dx: f64, dy: f64) {
+        self.dx_min = self.dx_min.min(dx);
+        self.dx_max = self.dx_max.max(dx);
+        self.dy_min = self.dy_min.min(dy);
+        self.dy_max = self.dy_max.max(dy);
+    }
+
+    pub fn union(self, o: Displacements) -> Displacements {
+        Displacements {
+            dx_min: self.dx_min.min(o.dx_min),
+            dx_max: self.dx_max.max(o.dx_max),
+            dy_min: self.dy_min.min(o.dy_min),
+            dy_max: self.dy_max.max(o.dy_max),
+        }
+    }
+
+    /// Largest difference of two displacements in the box.
+    pub fn diagonal(&self) -> f64 {
+        (self.dx_max - self.dx_min).hypot(self.dy_max - self.dy_min)
+    }
 }
 
 impl NeighbourList {
@@ -47,13 +107,19 @@ impl NeighbourList {
     }
 
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
-    /// within `cutoff` (which must be below the strip width).
-    pub fn build(&mut self, x: &[f64], y: &[f64], width: f64, cutoff: f64) {
+    /// within `cutoff` (which must be below the strip width). Particles come
+    /// in blocks of `block` (for the rebuild rule, see [`Self::stale`]).
+    pub fn build(&mut self, x: &[f64], y: &[f64], width: f64, cutoff: f64, block: usize) {
         assert!(
             cutoff < width,
             "cutoff {cutoff} must be below the strip width {width}"
         );
+        assert!(
+            block > 0 && x.len().is_multiple_of(block),
+            "particles come in whole blocks"
+        );
         let n = x.len();
+        self.find_near_blocks(y, cutoff, block);
         self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
         let ymin = y.iter().copied().fold(f64::INFINITY, f64::min);
@@ -61,7 +127,7 @@ impl NeighbourList {
         let cutoff2 = cutoff * cutoff;
 
         // Visit every neighbour of i in the fixed order.
-        let visit = |i: usize, f: &mut dyn FnMut(u32, i8)| {
+        let visit = |i: usize, f: &mut dyn FnMut(u32, i8, f64)| {
             let (xi, yi) = (x[i], y[i]);
             let b = bin_of(yi, ymin, cutoff, n_bins);
             for bin in b.saturating_sub(1)..(b + 2).min(n_bins) {
@@ -73,8 +139,9 @@ impl NeighbourList {
                             continue;
                         }
                         let dx = dx0 + f64::from(shift) * width;
-                        if dx * dx + dy * dy <= cutoff2 {
-                            f(j, shift);
+                        let r2 = dx * dx + dy * dy;
+                        if r2 <= cutoff2 {
+                            f(j, shift, r2);
                         }
                     }
                 }
@@ -89,7 +156,7 @@ impl NeighbourList {
             .enumerate()
             .for_each(|(i, c)| {
                 let mut k = 0u32;
-                visit(i, &mut |_, _| k += 1);
+                visit(i, &mut |_, _, _| k += 1);
                 *c = k;
             });
         let stride = count.iter().copied().max().unwrap_or(0) as usize;
@@ -102,17 +169,65 @@ impl NeighbourList {
                 .zip(self.shift.par_chunks_mut(stride))
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .for_each(|(i, (index, shift))| {
-                    let mut k = 0;
-                    visit(i, &mut |j, s| {
+                .for_each_init(Vec::new, |found, (i, (index, shift))| {
+                    found.clear();
+                    visit(i, &mut |j, s, r2| found.push((r2, j, s)));
+                    // Nearest first: the kernels' piece tests then come in
+                    // runs, which branch prediction follows, for as long as
+                    // the list lives (particles move less than the skin).
+                    found.sort_unstable_by(|a, b| {
+                        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+                    });
+                    for (k, &(_, j, s)) in found.iter().enumerate() {
                         index[k] = j;
                         shift[k] = s;
-                        k += 1;
-                    });
+                    }
                 });
         }
         self.count = count;
         self.rebuilds += 1;
+    }
+
+    /// Whether the list may miss a pair within `cutoff - skin`, given each
+    /// block's displacement box.
+    pub fn stale(&self, box_of: impl Fn(usize) -> Displacements, skin: f64) -> bool {
+        let n_blocks = self.near_start.len() - 1;
+        let all = (0..n_blocks).fold(Displacements::EMPTY, |acc, b| acc.union(box_of(b)));
+        if all.dy_max - all.dy_min > skin {
+            return true;
+        }
+        (0..n_blocks).any(|a| {
+            let box_a = box_of(a);
+            box_a.diagonal() > skin
+                || self.near[self.near_start[a] as usize..self.near_start[a + 1] as usize]
+                    .iter()
+                    .any(|&b| box_a.union(box_of(b as usize)).diagonal() > skin)
+        })
+    }
+
+    /// The pairs of blocks within `cutoff` of each other in y.
+    fn find_near_blocks(&mut self, y: &[f64], cutoff: f64, block: usize) {
+        let ranges: Vec<(f64, f64)> = y
+            .chunks(block)
+            .map(|c| {
+                c.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                        (lo.min(v), hi.max(v))
+                    })
+            })
+            .collect();
+        self.near_start.clear();
+        self.near.clear();
+        self.near_start.push(0);
+        for (a, &(lo_a, hi_a)) in ranges.iter().enumerate() {
+            for (b, &(lo_b, hi_b)) in ranges.iter().enumerate().skip(a + 1) {
+                let gap = (lo_b - hi_a).max(lo_a - hi_b);
+                if gap <= cutoff {
+                    self.near.push(b as u32);
+                }
+            }
+            self.near_start.push(self.near.len() as u32);
+        }
     }
 
     /// Counting sort of the particles into bins of height `cutoff` in y.
@@ -179,12 +294,55 @@ mod tests {
         }
         let cutoff = 2.3;
         let mut list = NeighbourList::default();
-        list.build(&x, &y, l.width, cutoff);
+        list.build(&x, &y, l.width, cutoff, l.columns as usize);
         for i in 0..x.len() {
             let (idx, sh) = list.of(i);
             let mut got: Vec<(u32, i8)> = idx.iter().copied().zip(sh.iter().copied()).collect();
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
         }
+    }
+}
+
+#[cfg(test)]
+mod stale_tests {
+    use super::*;
+    use crate::solver::lattice::Lattice;
+
+    #[test]
+    fn shear_between_near_layers_triggers_a_rebuild() {
+        let l = Lattice::new(6, 1.0, 1.0, 2.0);
+        let (x, y, layer) = l.positions();
+        let mut list = NeighbourList::default();
+        list.build(&x, &y, l.width, 2.3, l.columns as usize);
+        let n_blocks = x.len() / l.columns as usize;
+        // Every block moves along x by the steady profile's speed times t.
+        let moved = |t: f64| -> Vec<Displacements> {
+            (0..n_blocks)
+                .map(|b| {
+                    let n = layer[b * l.columns as usize];
+                    let u = if n.abs() < 6 {
+                        1.0 - (n as f64 / 6.0).powi(2)
+                    } else {
+                        0.0
+                    };
+                    let mut d = Displacements::EMPTY;
+                    d.add(u * t, 0.0);
+                    d
+                })
+                .collect()
+        };
+        // Blocks within reach are at most 2 layers apart (3 dy > 2.3); the
+        // fastest relative motion among them is layer 4 (u = 20/36) against
+        // the wall layer 6.
+        let v = 20.0 / 36.0;
+        let stale = |b: &[Displacements]| list.stale(|k| b[k], 0.3);
+        assert!(!stale(&moved(0.29 / v)));
+        assert!(stale(&moved(0.31 / v)));
+        // A transverse spread over the skin always does.
+        let mut b = vec![Displacements::ZERO; n_blocks];
+        b[0] = Displacements::EMPTY;
+        b[0].add(0.0, 0.31);
+        assert!(stale(&b));
     }
 }

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::lattice::Lattice;
-use super::neighbours::NeighbourList;
+use super::neighbours::{Displacements, NeighbourList};
 use crate::kernel::Kernel;
 use crate::scene::{Initial, PressureForm, Problem};
 
@@ -170,63 +170,35 @@ impl Params {
     }
 }
 
-/// What the kick-drift saw: the bounding box of the fluid's displacements
-/// since the last rebuild (it always holds the walls' zero), and how far
-/// from the centre line the fluid reached.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Drift {
-    pub dx_min: f64,
-    pub dx_max: f64,
-    pub dy_min: f64,
-    pub dy_max: f64,
-    pub max_abs_y: f64,
-}
-
-impl Drift {
-    const NONE: Drift = Drift {
-        dx_min: 0.0,
-        dx_max: 0.0,
-        dy_min: 0.0,
-        dy_max: 0.0,
-        max_abs_y: 0.0,
-    };
-
-    fn merge(self, o: Drift) -> Drift {
-        Drift {
-            dx_min: self.dx_min.min(o.dx_min),
-            dx_max: self.dx_max.max(o.dx_max),
-            dy_min: self.dy_min.min(o.dy_min),
-            dy_max: self.dy_max.max(o.dy_max),
-            max_abs_y: self.max_abs_y.max(o.max_abs_y),
-        }
-    }
-
-    /// Largest possible change of any pair distance since the rebuild.
-    pub fn spread(&self) -> f64 {
-        (self.dx_max - self.dx_min).hypot(self.dy_max - self.dy_min)
-    }
-}
-
 /// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
-/// v + dt/2 a of the end-of-step velocity for the forces.
-pub(crate) fn kick_drift(s: &mut State, dt: f64) -> Drift {
+/// v + dt/2 a of the end-of-step velocity for the forces. Fills `motion`
+/// with each block's displacements since the last rebuild and how far from
+/// the centre line it reached.
+pub(crate) fn kick_drift(
+    s: &mut State,
+    dt: f64,
+    block: usize,
+    motion: &mut Vec<(Displacements, f64)>,
+) {
     let nf = s.n_fluid;
     let half = 0.5 * dt;
     (
-        s.x[..nf].par_chunks_mut(CHUNK),
-        s.y[..nf].par_chunks_mut(CHUNK),
-        s.vx[..nf].par_chunks_mut(CHUNK),
-        s.vy[..nf].par_chunks_mut(CHUNK),
-        s.vpx[..nf].par_chunks_mut(CHUNK),
-        s.vpy[..nf].par_chunks_mut(CHUNK),
-        s.ax.par_chunks(CHUNK),
-        s.ay.par_chunks(CHUNK),
-        s.x0.par_chunks(CHUNK),
-        s.y0.par_chunks(CHUNK),
+        s.x[..nf].par_chunks_mut(block),
+        s.y[..nf].par_chunks_mut(block),
+        s.vx[..nf].par_chunks_mut(block),
+        s.vy[..nf].par_chunks_mut(block),
+        s.vpx[..nf].par_chunks_mut(block),
+        s.vpy[..nf].par_chunks_mut(block),
+        s.ax.par_chunks(block),
+        s.ay.par_chunks(block),
+        s.x0.par_chunks(block),
+        s.y0.par_chunks(block),
     )
         .into_par_iter()
+        .with_min_len(CHUNK.div_ceil(block))
         .map(|(x, y, vx, vy, vpx, vpy, ax, ay, x0, y0)| {
-            let mut d = Drift::NONE;
+            let mut d = Displacements::EMPTY;
+            let mut max_abs_y = 0.0f64;
             for k in 0..x.len() {
                 vx[k] += half * ax[k];
                 vy[k] += half * ay[k];
@@ -234,22 +206,18 @@ pub(crate) fn kick_drift(s: &mut State, dt: f64) -> Drift {
                 y[k] += dt * vy[k];
                 vpx[k] = vx[k] + half * ax[k];
                 vpy[k] = vy[k] + half * ay[k];
-                let (ddx, ddy) = (x[k] - x0[k], y[k] - y0[k]);
-                d.dx_min = d.dx_min.min(ddx);
-                d.dx_max = d.dx_max.max(ddx);
-                d.dy_min = d.dy_min.min(ddy);
-                d.dy_max = d.dy_max.max(ddy);
-                // NaN compares false, so make it show here too.
-                let ay_abs = y[k].abs();
-                d.max_abs_y = if ay_abs.is_nan() {
+                d.add(x[k] - x0[k], y[k] - y0[k]);
+                // NaN compares false: make it count as out of the channel.
+                let ya = y[k].abs();
+                max_abs_y = if ya.is_nan() {
                     f64::INFINITY
                 } else {
-                    d.max_abs_y.max(ay_abs)
+                    max_abs_y.max(ya)
                 };
             }
-            d
+            (d, max_abs_y)
         })
-        .reduce(|| Drift::NONE, Drift::merge)
+        .collect_into_vec(motion);
 }
 
 /// Density by summation (11) over fluid and wall neighbours, self included,
@@ -392,11 +360,11 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
                     py += pij * g * dy;
                     let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
                     let vr = dvx * dx + dvy * dy;
-                    if vr < 0.0 {
-                        let f = vr / r2 * g;
-                        avx += f * dx;
-                        avy += f * dy;
-                    }
+                    // Only approaching pairs (v_ij . r_ij < 0); branch-free,
+                    // since the sign changes unpredictably from pair to pair.
+                    let f = vr.min(0.0) / r2 * g;
+                    avx += f * dx;
+                    avy += f * dy;
                     let f = vol[j] * g;
                     lx += f * dvx;
                     ly += f * dvy;
