@@ -7,6 +7,7 @@
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{bail, Context, Result};
 use plotters::prelude::*;
@@ -171,23 +172,28 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
         .with_context(|| format!("creating output folder {}", dir.display()))
 }
 
-/// Write `bytes` to `path` atomically: a temporary file in the same folder,
-/// renamed over the target.
+/// Write `bytes` to `path` atomically: a new file beside it (same folder,
+/// so the rename cannot cross file systems), renamed over the target. The
+/// file gets the usual permissions (the umask's), like any other.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".tmp-")
-        .tempfile_in(dir)
-        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
-    tmp.write_all(bytes)
-        .with_context(|| format!("writing {}", path.display()))?;
-    tmp.as_file().sync_all().ok();
-    tmp.persist(path)
-        .with_context(|| format!("renaming into {}", path.display()))?;
-    Ok(())
+    static SERIAL: AtomicU64 = AtomicU64::new(0);
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp = dir.join(format!(
+        ".{name}.tmp-{}-{}",
+        std::process::id(),
+        SERIAL.fetch_add(1, Ordering::Relaxed)
+    ));
+    let written = (|| -> std::io::Result<()> {
+        let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.with_context(|| format!("writing {}", path.display()))
 }
 
 /// Write every output of `result` into `dir` (see [`prepare_dir`]).
@@ -278,14 +284,18 @@ pub fn profile_svg(r: &RunResult) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
-        let title = format!(
-            "{} N = {} Re = {:.3} c0 = {:.3} U ({})",
+        let mut title = format!(
+            "{} N = {} Re = {:.4} c0 = {:.4} U ({}) alpha = {}",
             r.kernel,
             r.problem.lattice.n_layers,
             r.problem.re,
             r.problem.c0 / flow.u,
-            r.problem.c0_rule
+            r.problem.c0_rule,
+            r.problem.scene.alpha
         );
+        if let Outcome::Failed { t, .. } = &r.outcome {
+            title.push_str(&format!(": FAILED at t = {t:.4}"));
+        }
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 20))
             .margin(15)
