@@ -177,7 +177,10 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
 /// file gets the usual permissions (the umask's), like any other.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     static SERIAL: AtomicU64 = AtomicU64::new(0);
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
     let tmp = dir.join(format!(
         ".{name}.tmp-{}-{}",
@@ -185,7 +188,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         SERIAL.fetch_add(1, Ordering::Relaxed)
     ));
     let written = (|| -> std::io::Result<()> {
-        let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
