@@ -64,6 +64,8 @@ pub struct Summary {
     pub rms_v: f64,
     pub kinetic_energy: f64,
     pub neighbour_rebuilds: u64,
+    /// Mean neighbour-list length (R h + skin) per particle, at the start.
+    pub mean_neighbours: f64,
     /// `ok` or `failed`.
     pub outcome: &'static str,
     pub failure_reason: Option<String>,
@@ -128,6 +130,7 @@ impl Summary {
             rms_v: last.rms_v,
             kinetic_energy: last.kinetic_energy,
             neighbour_rebuilds: r.neighbour_rebuilds,
+            mean_neighbours: r.mean_neighbours,
             outcome,
             failure_reason,
             failure_t,

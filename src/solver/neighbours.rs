@@ -148,42 +148,48 @@ impl NeighbourList {
             }
         };
 
+        // One pass with the last build's stride; a second only when some
+        // list outgrew it (always at the first build).
         let mut count = std::mem::take(&mut self.count);
         count.resize(n, 0);
-        count
-            .par_iter_mut()
-            .with_min_len(BUILD_CHUNK)
-            .enumerate()
-            .for_each(|(i, c)| {
-                let mut k = 0u32;
-                visit(i, &mut |_, _, _| k += 1);
-                *c = k;
-            });
-        let stride = count.iter().copied().max().unwrap_or(0) as usize;
-        self.stride = stride;
-        self.index.resize(n * stride, 0);
-        self.shift.resize(n * stride, 0);
-        if stride > 0 {
-            self.index
+        let mut stride = self.stride.max(1);
+        loop {
+            self.index.resize(n * stride, 0);
+            self.shift.resize(n * stride, 0);
+            let longest = self
+                .index
                 .par_chunks_mut(stride)
                 .zip(self.shift.par_chunks_mut(stride))
+                .zip(count.par_iter_mut())
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .for_each_init(Vec::new, |found, (i, (index, shift))| {
+                .map_init(Vec::new, |found, (i, ((index, shift), c))| {
                     found.clear();
                     visit(i, &mut |j, s, r2| found.push((r2, j, s)));
-                    // Nearest first: the kernels' piece tests then come in
-                    // runs, which branch prediction follows, for as long as
-                    // the list lives (particles move less than the skin).
-                    found.sort_unstable_by(|a, b| {
-                        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
-                    });
-                    for (k, &(_, j, s)) in found.iter().enumerate() {
-                        index[k] = j;
-                        shift[k] = s;
+                    *c = found.len() as u32;
+                    if found.len() <= stride {
+                        // Nearest first: the kernels' piece tests then come
+                        // in runs, which branch prediction follows, for as
+                        // long as the list lives (particles move less than
+                        // the skin). Stable, so ties keep the visiting order;
+                        // r^2 >= 0 sorts as its bits.
+                        found.sort_by_key(|e| e.0.to_bits());
+                        for (k, &(_, j, s)) in found.iter().enumerate() {
+                            index[k] = j;
+                            shift[k] = s;
+                        }
                     }
-                });
+                    found.len()
+                })
+                .max()
+                .unwrap_or(0);
+            if longest <= stride {
+                break;
+            }
+            // Room for a little compaction before the next overflow.
+            stride = longest + 2;
         }
+        self.stride = stride;
         self.count = count;
         self.rebuilds += 1;
     }
