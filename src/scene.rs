@@ -263,6 +263,8 @@ pub enum SceneError {
     UnknownKernel { name: String, known: String },
     #[error("{origin}: {message}")]
     Read { origin: String, message: String },
+    #[error("the scene names kernel {scene:?} but the solver was built for {solver:?}")]
+    KernelMismatch { scene: String, solver: &'static str },
 }
 
 /// The flag that sets a scene field.

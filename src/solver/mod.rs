@@ -246,13 +246,9 @@ pub fn simulate<K: Kernel>(
     observer: &mut dyn Observer,
 ) -> Result<RunResult, SceneError> {
     if scene.kernel != K::NAME {
-        return Err(SceneError::Read {
-            origin: "simulate".into(),
-            message: format!(
-                "the scene names kernel {:?} but runs with {:?}",
-                scene.kernel,
-                K::NAME
-            ),
+        return Err(SceneError::KernelMismatch {
+            scene: scene.kernel.clone(),
+            solver: K::NAME,
         });
     }
     let problem = Problem::new(scene, K::INFO)?;

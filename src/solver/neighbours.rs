@@ -120,9 +120,8 @@ impl NeighbourList {
         );
         let n = x.len();
         self.find_near_blocks(y, cutoff, block);
-        self.bin_by_y(y, cutoff);
+        let ymin = self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
-        let ymin = y.iter().copied().fold(f64::INFINITY, f64::min);
         let n_bins = bin_start.len() - 1;
         let cutoff2 = cutoff * cutoff;
 
@@ -236,11 +235,20 @@ impl NeighbourList {
         }
     }
 
-    /// Counting sort of the particles into bins of height `cutoff` in y.
-    fn bin_by_y(&mut self, y: &[f64], cutoff: f64) {
+    /// Counting sort of the particles into bins of height `cutoff` in y;
+    /// returns the lowest y (the first bin's floor).
+    fn bin_by_y(&mut self, y: &[f64], cutoff: f64) -> f64 {
         let ymin = y.iter().copied().fold(f64::INFINITY, f64::min);
         let ymax = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let n_bins = ((ymax - ymin) / cutoff).floor() as usize + 1;
+        // Bins of height `cutoff` from the lowest particle; no more bins than
+        // particles (the last one takes the rest), and one for a span that is
+        // not finite (a blown-up state, about to be reported).
+        let span = ymax - ymin;
+        let n_bins = if span.is_finite() {
+            (span / cutoff).floor().min(y.len() as f64) as usize + 1
+        } else {
+            1
+        };
         self.bin_start.clear();
         self.bin_start.resize(n_bins + 1, 0);
         for &yi in y {
@@ -256,6 +264,7 @@ impl NeighbourList {
             self.bin_items[fill[b] as usize] = i as u32;
             fill[b] += 1;
         }
+        ymin
     }
 }
 
