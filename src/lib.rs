@@ -13,7 +13,10 @@ pub mod kernels {
     include!("../generated/registry.rs");
 }
 pub mod analytic;
+pub mod charts;
 pub mod cli;
 pub mod output;
+pub mod report;
 pub mod scene;
 pub mod solver;
+pub mod sweep;

@@ -11,6 +11,7 @@
 //! 5. the checks for blow-up, every step.
 
 mod diagnostics;
+pub mod ideal_shear;
 pub mod lattice;
 pub mod neighbours;
 mod step;

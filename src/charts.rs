@@ -1,0 +1,707 @@
+//! The sweep's and the report's charts (SVG, plotters), each drawn from plain
+//! data that is also written as the CSV behind it: speed against accuracy
+//! with its Pareto front, stability maps, and the paper's Figure 4.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use anyhow::Result;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::sweep::store::csv_field;
+use crate::sweep::{Class, Row};
+
+fn chart_err<E: std::error::Error + Send + Sync + 'static>(
+    e: DrawingAreaErrorKind<E>,
+) -> anyhow::Error {
+    anyhow::anyhow!("drawing a chart: {e}")
+}
+
+/// A number for an axis label or a table: 3 significant digits, plain or
+/// with an exponent.
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if (1e-3..1e4).contains(&a) {
+        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+/// Colour of an outcome class.
+pub fn class_color(c: Class) -> RGBColor {
+    match c {
+        Class::Ok => RGBColor(46, 160, 67),
+        Class::Inaccurate => RGBColor(230, 159, 0),
+        Class::OverCompressed => RGBColor(148, 103, 189),
+        Class::Failed => RGBColor(214, 39, 40),
+    }
+}
+
+/// Hex form of a class colour, for HTML.
+pub fn class_hex(c: Class) -> String {
+    let RGBColor(r, g, b) = class_color(c);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+fn series_color(k: usize) -> RGBColor {
+    const C: [RGBColor; 10] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+        RGBColor(188, 189, 34),
+        RGBColor(23, 190, 207),
+    ];
+    C[k % C.len()]
+}
+
+/// Range of positive finite values, widened by `pad` (a factor) on a log axis.
+fn log_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| *v > 0.0 && v.is_finite())
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        (0.1, 10.0)
+    } else if lo == hi {
+        (lo / pad / 2.0, hi * pad * 2.0)
+    } else {
+        (lo / pad, hi * pad)
+    }
+}
+
+// ---------------------------------------------------------------- Pareto
+
+/// For points (cost, error), both to be small: `true` for the points no other
+/// point beats, i.e. none has cost <= and error <= with one of them strictly
+/// smaller. Points with a NaN coordinate are never on the front.
+pub fn pareto_flags(points: &[(f64, f64)]) -> Vec<bool> {
+    points
+        .iter()
+        .map(|&(c, e)| {
+            !c.is_nan()
+                && !e.is_nan()
+                && !points
+                    .iter()
+                    .any(|&(c2, e2)| c2 <= c && e2 <= e && (c2 < c || e2 < e))
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------- speed
+
+/// The machine-free or the wall-clock cost of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cost {
+    WallTime,
+    ParticleSteps,
+}
+
+impl Cost {
+    pub fn label(self) -> &'static str {
+        match self {
+            Cost::WallTime => "wall time (s)",
+            Cost::ParticleSteps => "particle-steps",
+        }
+    }
+}
+
+/// One run on the speed-accuracy chart.
+#[derive(Debug, Clone)]
+pub struct SpeedPoint {
+    pub kernel: String,
+    /// The c0 as gridded (`derived`, `rule10`, `table2`, ...).
+    pub rule: String,
+    pub n: u32,
+    pub re: f64,
+    pub c0_over_u: f64,
+    /// Worst L_inf error / U over the run.
+    pub linf: f64,
+    pub wall_s: f64,
+    pub particle_steps: f64,
+    /// The time-step limit that bound most steps.
+    pub dt_limit: String,
+    pub class: Class,
+    /// On the Pareto front of its Re, by wall time and by particle-steps.
+    pub pareto_wall: bool,
+    pub pareto_work: bool,
+}
+
+impl SpeedPoint {
+    pub fn series(&self) -> String {
+        format!("{} {}", self.kernel, self.rule)
+    }
+    fn cost(&self, cost: Cost) -> f64 {
+        match cost {
+            Cost::WallTime => self.wall_s.max(1e-4),
+            Cost::ParticleSteps => self.particle_steps,
+        }
+    }
+}
+
+/// The runs that have an error to show (every class but `failed`), with
+/// their Pareto flags computed per Re.
+pub fn speed_points(rows: &[Row]) -> Vec<SpeedPoint> {
+    let mut pts: Vec<SpeedPoint> = rows
+        .iter()
+        .filter(|r| r.class != Class::Failed && r.linf_max.is_finite() && r.steps > 0)
+        .map(|r| SpeedPoint {
+            kernel: r.kernel.clone(),
+            rule: r.c0_spec.clone(),
+            n: r.n,
+            re: r.re,
+            c0_over_u: r.c0_over_u,
+            linf: r.linf_max.max(1e-12),
+            wall_s: r.wall_s,
+            particle_steps: r.particle_steps,
+            dt_limit: r.dt_limit.clone().unwrap_or_default(),
+            class: r.class,
+            pareto_wall: false,
+            pareto_work: false,
+        })
+        .collect();
+    let res: Vec<f64> = distinct(pts.iter().map(|p| p.re));
+    for re in res {
+        let idx: Vec<usize> = (0..pts.len()).filter(|&i| pts[i].re == re).collect();
+        for cost in [Cost::WallTime, Cost::ParticleSteps] {
+            let xy: Vec<(f64, f64)> = idx
+                .iter()
+                .map(|&i| (pts[i].cost(cost), pts[i].linf))
+                .collect();
+            for (&i, f) in idx.iter().zip(pareto_flags(&xy)) {
+                match cost {
+                    Cost::WallTime => pts[i].pareto_wall = f,
+                    Cost::ParticleSteps => pts[i].pareto_work = f,
+                }
+            }
+        }
+    }
+    pts
+}
+
+/// Sorted distinct values.
+fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = v.collect();
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    v
+}
+
+pub fn speed_csv(points: &[SpeedPoint]) -> String {
+    let mut out = String::from(
+        "kernel,c0_rule,n,re,c0_over_u,linf_max,wall_s,particle_steps,dt_limit,class,pareto_wall,pareto_particle_steps\n",
+    );
+    for p in points {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            csv_field(&p.kernel),
+            csv_field(&p.rule),
+            p.n,
+            p.re,
+            p.c0_over_u,
+            p.linf,
+            p.wall_s,
+            p.particle_steps,
+            p.dt_limit,
+            p.class,
+            p.pareto_wall,
+            p.pareto_work
+        );
+    }
+    out
+}
+
+/// Error against cost, log-log, one panel per Re: a colour per kernel and c0
+/// rule (points joined in order of N and labelled by N), the marker's shape
+/// the time-step limit that bound (circle viscous, triangle CFL, cross
+/// force), the Pareto front ringed and joined in black.
+pub fn speed_svg(points: &[SpeedPoint], cost: Cost) -> Result<String> {
+    let res = distinct(points.iter().map(|p| p.re));
+    let panels = res.len().max(1);
+    let series: Vec<String> = {
+        let mut s: Vec<String> = points.iter().map(SpeedPoint::series).collect();
+        s.sort();
+        s.dedup();
+        s
+    };
+    let (xlo, xhi) = log_range(points.iter().map(|p| p.cost(cost)), 1.6);
+    let (ylo, yhi) = log_range(points.iter().map(|p| p.linf), 1.6);
+    let mut svg = String::new();
+    {
+        let width = 620 * panels as u32;
+        let root = SVGBackend::with_string(&mut svg, (width, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(chart_err)?;
+        let areas = root.split_evenly((1, panels));
+        for (k, area) in areas.iter().enumerate() {
+            let re = res.get(k).copied().unwrap_or(f64::NAN);
+            let here: Vec<&SpeedPoint> = points.iter().filter(|p| p.re == re).collect();
+            speed_panel(area, &here, &series, cost, re, (xlo, xhi), (ylo, yhi))?;
+        }
+        root.present().map_err(chart_err)?;
+    }
+    Ok(svg)
+}
+
+fn speed_panel(
+    area: &DrawingArea<SVGBackend, Shift>,
+    points: &[&SpeedPoint],
+    series: &[String],
+    cost: Cost,
+    re: f64,
+    (xlo, xhi): (f64, f64),
+    (ylo, yhi): (f64, f64),
+) -> Result<()> {
+    let limits: Vec<String> = {
+        let mut l: Vec<String> = points.iter().map(|p| p.dt_limit.clone()).collect();
+        l.sort();
+        l.dedup();
+        l
+    };
+    let caption = format!(
+        "Re = {}: L_inf error vs {} (dt bound by: {})",
+        fmt_num(re),
+        cost.label(),
+        if limits.is_empty() {
+            "-".to_string()
+        } else {
+            limits.join(", ")
+        }
+    );
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 16))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+        .map_err(chart_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(cost.label())
+        .y_desc("worst L_inf error / U")
+        .x_label_formatter(&|v| fmt_num(*v))
+        .y_label_formatter(&|v| fmt_num(*v))
+        .draw()
+        .map_err(chart_err)?;
+
+    for (si, name) in series.iter().enumerate() {
+        let color = series_color(si);
+        let mut mine: Vec<&&SpeedPoint> = points.iter().filter(|p| &p.series() == name).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        mine.sort_by_key(|p| p.n);
+        let line: Vec<(f64, f64)> = mine.iter().map(|p| (p.cost(cost), p.linf)).collect();
+        chart
+            .draw_series(LineSeries::new(line, color.stroke_width(1)))
+            .map_err(chart_err)?
+            .label(name.clone())
+            .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
+        for p in &mine {
+            let at = (p.cost(cost), p.linf);
+            let label = Text::new(
+                format!("N={}", p.n),
+                (6, -12),
+                ("sans-serif", 11).into_font(),
+            );
+            match p.dt_limit.as_str() {
+                "viscous" => chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at(at) + Circle::new((0, 0), 5, color.filled()) + label,
+                    ))
+                    .map_err(chart_err)?,
+                "cfl" => chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at(at)
+                            + TriangleMarker::new((0, 0), 6, color.filled())
+                            + label,
+                    ))
+                    .map_err(chart_err)?,
+                _ => chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at(at) + Cross::new((0, 0), 5, color.stroke_width(2)) + label,
+                    ))
+                    .map_err(chart_err)?,
+            };
+        }
+    }
+    // The Pareto front.
+    let mut front: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| match cost {
+            Cost::WallTime => p.pareto_wall,
+            Cost::ParticleSteps => p.pareto_work,
+        })
+        .map(|p| (p.cost(cost), p.linf))
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart
+        .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(1)))
+        .map_err(chart_err)?
+        .label("Pareto front (ringed)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1)));
+    chart
+        .draw_series(
+            front
+                .iter()
+                .map(|&at| Circle::new(at, 9, BLACK.stroke_width(1))),
+        )
+        .map_err(chart_err)?;
+    // Marker shapes.
+    let grey = RGBColor(90, 90, 90);
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+        .map_err(chart_err)?
+        .label("circle: viscous dt limit bound")
+        .legend(move |(x, y)| Circle::new((x + 8, y), 4, grey.filled()));
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+        .map_err(chart_err)?
+        .label("triangle: CFL limit bound")
+        .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 5, grey.filled()));
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+        .map_err(chart_err)?
+        .label("cross: force limit bound")
+        .legend(move |(x, y)| Cross::new((x + 8, y), 4, grey.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 11))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(chart_err)?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------- maps
+
+/// One grid point of a stability map.
+#[derive(Debug, Clone)]
+pub struct MapCell {
+    pub re: f64,
+    pub c0_over_u: f64,
+    pub class: Class,
+    pub failure_kind: Option<String>,
+    pub linf_max: f64,
+    pub max_eps: f64,
+    pub id: String,
+}
+
+/// A line on a map: c0/U against Re for one rule, in pieces where it is
+/// positive; a rule with no piece is listed as having no positive root.
+#[derive(Debug, Clone)]
+pub struct MapLine {
+    pub label: String,
+    pub pieces: Vec<Vec<(f64, f64)>>,
+}
+
+/// A marked value on a map (the empirical c0): (label, Re, c0/U).
+pub type MapMark = (String, f64, f64);
+
+pub fn map_csv(kernel: &str, cells: &[MapCell]) -> String {
+    let mut out = String::from("kernel,re,c0_over_u,class,failure_kind,linf_max,max_eps,id\n");
+    for c in cells {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{}",
+            csv_field(kernel),
+            c.re,
+            c.c0_over_u,
+            c.class,
+            c.failure_kind.clone().unwrap_or_default(),
+            c.linf_max,
+            c.max_eps,
+            csv_field(&c.id)
+        );
+    }
+    out
+}
+
+pub fn map_lines_csv(kernel: &str, lines: &[MapLine]) -> String {
+    let mut out = String::from("kernel,line,piece,re,c0_over_u\n");
+    for l in lines {
+        if l.pieces.is_empty() {
+            let _ = writeln!(out, "{},{},,,", csv_field(kernel), csv_field(&l.label));
+        }
+        for (k, piece) in l.pieces.iter().enumerate() {
+            for (re, c) in piece {
+                let _ = writeln!(
+                    out,
+                    "{},{},{k},{re},{c}",
+                    csv_field(kernel),
+                    csv_field(&l.label)
+                );
+            }
+        }
+    }
+    out
+}
+
+/// Outcome class (colour) over c0/U (log) and Re (log), with the rules'
+/// lines and the marks.
+pub fn map_svg(
+    title: &str,
+    cells: &[MapCell],
+    lines: &[MapLine],
+    marks: &[MapMark],
+) -> Result<String> {
+    let (xlo, xhi) = log_range(cells.iter().map(|c| c.c0_over_u), 1.8);
+    let (ylo, yhi) = log_range(cells.iter().map(|c| c.re), 1.5);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (820, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(chart_err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 16))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(55)
+            .right_y_label_area_size(10)
+            .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+            .map_err(chart_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("c0 / U")
+            .y_desc("Re")
+            .x_label_formatter(&|v| fmt_num(*v))
+            .y_label_formatter(&|v| fmt_num(*v))
+            .draw()
+            .map_err(chart_err)?;
+        for class in Class::ALL {
+            let color = class_color(class);
+            chart
+                .draw_series(cells.iter().filter(|c| c.class == class).map(|c| {
+                    EmptyElement::at((c.c0_over_u, c.re))
+                        + Rectangle::new([(-9, -9), (9, 9)], color.filled())
+                }))
+                .map_err(chart_err)?
+                .label(class.name())
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x + 2, y - 5), (x + 12, y + 5)], color.filled())
+                });
+        }
+        let inside = |p: &(f64, f64)| p.0 >= xlo && p.0 <= xhi;
+        for (k, line) in lines.iter().enumerate() {
+            let color = series_color(k);
+            if line.pieces.is_empty() {
+                chart
+                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                    .map_err(chart_err)?
+                    .label(format!("{}: no positive root", line.label))
+                    .legend(move |(x, y)| Cross::new((x + 8, y), 4, color.stroke_width(2)));
+                continue;
+            }
+            for (i, piece) in line.pieces.iter().enumerate() {
+                let pts: Vec<(f64, f64)> = piece
+                    .iter()
+                    .map(|&(re, c)| (c, re))
+                    .filter(inside)
+                    .collect();
+                let s = chart
+                    .draw_series(LineSeries::new(pts, color.stroke_width(3)))
+                    .map_err(chart_err)?;
+                if i == 0 {
+                    s.label(line.label.clone()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
+                    });
+                }
+            }
+        }
+        for (label, re, c) in marks {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((*c, *re))
+                        + Circle::new((0, 0), 6, BLACK.stroke_width(2))
+                        + Text::new(label.clone(), (8, 4), ("sans-serif", 12).into_font()),
+                ))
+                .map_err(chart_err)?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 11))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(chart_err)?;
+        root.present().map_err(chart_err)?;
+    }
+    Ok(svg)
+}
+
+// ---------------------------------------------------------------- Figure 4
+
+/// eps(t) of one layer over one period: the generated model and the solver's
+/// density summation on particles moved by the ideal shear.
+#[derive(Debug, Clone)]
+pub struct EpsCurve {
+    pub kernel: String,
+    /// The layer n.
+    pub n: u32,
+    /// e.g. `n = 0`, `n = N - R = 8`.
+    pub label: String,
+    /// t / T.
+    pub t: Vec<f64>,
+    pub model: Vec<f64>,
+    pub measured: Vec<f64>,
+}
+
+/// One kernel's panel: its title, its mean eps (`KernelInfo.eps.mean`), its curves.
+#[derive(Debug, Clone)]
+pub struct EpsPanel {
+    pub kernel: String,
+    pub title: String,
+    pub mean: f64,
+    pub curves: Vec<EpsCurve>,
+}
+
+pub fn figure4_csv(panels: &[EpsPanel], n_layers: u32) -> String {
+    let mut out = String::from("kernel,n_layers,n,curve,t_over_T,eps_model,eps_solver,eps_mean\n");
+    for p in panels {
+        for c in &p.curves {
+            for k in 0..c.t.len() {
+                let _ = writeln!(
+                    out,
+                    "{},{n_layers},{},{},{},{},{},{}",
+                    csv_field(&p.kernel),
+                    c.n,
+                    csv_field(&c.label),
+                    c.t[k],
+                    c.model[k],
+                    c.measured[k],
+                    p.mean
+                );
+            }
+        }
+    }
+    out
+}
+
+/// Figure 4: eps over one period, a panel per kernel; lines the generated
+/// eps_at, dots the solver's density summation under ideal shear, the
+/// dashed-looking grey line the time mean.
+pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let height = 340 * panels.len().max(1) as u32;
+        let root = SVGBackend::with_string(&mut svg, (1000, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(chart_err)?;
+        let areas = root.split_evenly((panels.len().max(1), 1));
+        for (panel, area) in panels.iter().zip(&areas) {
+            let all = panel
+                .curves
+                .iter()
+                .flat_map(|c| c.model.iter().chain(&c.measured))
+                .copied()
+                .chain(std::iter::once(panel.mean))
+                .filter(|v| v.is_finite());
+            let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+            let pad = ((hi - lo) * 0.08).max(1e-9);
+            let mut chart = ChartBuilder::on(area)
+                .caption(&panel.title, ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(80)
+                .build_cartesian_2d(0.0..1.0, (lo - pad)..(hi + pad))
+                .map_err(chart_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("t / T")
+                .y_desc("eps = rho/rho0 - 1")
+                .y_label_formatter(&|v| format!("{v:.2e}"))
+                .draw()
+                .map_err(chart_err)?;
+            for (k, c) in panel.curves.iter().enumerate() {
+                let color = series_color(k);
+                chart
+                    .draw_series(LineSeries::new(
+                        c.t.iter().copied().zip(c.model.iter().copied()),
+                        color.stroke_width(2),
+                    ))
+                    .map_err(chart_err)?
+                    .label(format!("{} (eps_at)", c.label))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+                    });
+                // Every few samples, so the line stays visible under the dots.
+                let step = (c.t.len() / 60).max(1);
+                chart
+                    .draw_series(
+                        c.t.iter()
+                            .zip(&c.measured)
+                            .step_by(step)
+                            .map(|(&t, &e)| Circle::new((t, e), 3, color.mix(0.9).stroke_width(1))),
+                    )
+                    .map_err(chart_err)?
+                    .label(format!("{} (solver density, ideal shear)", c.label))
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 3, color.stroke_width(1)));
+            }
+            let grey = RGBColor(100, 100, 100);
+            chart
+                .draw_series(LineSeries::new(
+                    vec![(0.0, panel.mean), (1.0, panel.mean)],
+                    grey.stroke_width(1),
+                ))
+                .map_err(chart_err)?
+                .label(format!("mean eps = {:.6e} (n = 0)", panel.mean))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], grey.stroke_width(1))
+                });
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font(("sans-serif", 11))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(chart_err)?;
+        }
+        root.present().map_err(chart_err)?;
+    }
+    Ok(svg)
+}
+
+/// Group rows by kernel, in kernel order of first appearance.
+pub fn by_kernel(rows: &[Row]) -> BTreeMap<String, Vec<&Row>> {
+    let mut m: BTreeMap<String, Vec<&Row>> = BTreeMap::new();
+    for r in rows {
+        m.entry(r.kernel.clone()).or_default().push(r);
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fmt_num_is_short() {
+        assert_eq!(fmt_num(0.1), "0.1");
+        assert_eq!(fmt_num(12.3456), "12.3");
+        assert_eq!(fmt_num(1234.0), "1234");
+        assert_eq!(fmt_num(1.5e-5), "1.50e-5");
+    }
+}

@@ -1,0 +1,936 @@
+//! Many scenes in parallel: a grid of points (kernels x N x Re x alpha x c0),
+//! each run once, classified, and kept as one row. `shearsph sweep` and the
+//! report both run their scenes through here.
+//!
+//! - A point is keyed by a stable id (`monaghan/n=10/re=30/alpha=0.1/c0=rule10`),
+//!   so a finished point is never rerun: a sweep resumes where it stopped.
+//! - Scenes run side by side, one per worker, each inside its own rayon pool
+//!   (one thread unless asked otherwise); the longest (estimated) start first.
+//! - A stop flag (Ctrl-C in the CLI) ends the sweep cleanly: no new point
+//!   starts, running ones are abandoned (their rows are not written) and every
+//!   finished row is kept.
+//!
+//! Storage (see [`store`]): `results.jsonl` gets one JSON row per finished
+//! point, appended and fsynced as it finishes (a line cut short by a crash is
+//! ignored and dropped on resume); `results.csv` is rewritten atomically from
+//! it when the sweep ends or stops.
+
+pub mod store;
+
+use std::collections::BTreeSet;
+use std::fmt;
+use std::panic::{self, AssertUnwindSafe};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use anyhow::{bail, Context, Result};
+use indicatif::ProgressBar;
+use serde::{Deserialize, Serialize};
+
+use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
+use crate::kernels;
+use crate::output::Summary;
+use crate::scene::{c0_by_rule, C0Spec, Problem, Scene, SceneError};
+use crate::solver::{self, Observer, RunResult, TimeStep};
+
+/// What makes a run `inaccurate` or `over-compressed`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassRules {
+    /// A run is `inaccurate` when the worst L_inf error of its layer-mean
+    /// velocity over the output times exceeds this (relative to U). 5 %: the
+    /// best runs at N = 10 stay within 0.2-2 % (Monaghan, Morris at Re = 1,
+    /// discretisation and wall slip), so 5 % is clearly beyond discretisation
+    /// error, and small enough that a profile off by more is visibly wrong.
+    #[serde(default = "default_linf_bound")]
+    pub linf_bound: f64,
+    /// A run is `over-compressed` when its largest compaction exceeds the
+    /// kernel's own lattice pulsation eps0 (the true maximum of eps(t) under
+    /// ideal shear, `KernelInfo.eps.max`: eps(0.5 T) for the paper's kernels)
+    /// by more than this. 1 %: the usual weakly compressible tolerance (Mach
+    /// 0.1); eps0 itself is no fault of c0, it is there at any c0.
+    #[serde(default = "default_eps_margin")]
+    pub eps_margin: f64,
+}
+
+fn default_linf_bound() -> f64 {
+    0.05
+}
+fn default_eps_margin() -> f64 {
+    0.01
+}
+
+impl Default for ClassRules {
+    fn default() -> Self {
+        ClassRules {
+            linf_bound: default_linf_bound(),
+            eps_margin: default_eps_margin(),
+        }
+    }
+}
+
+impl ClassRules {
+    /// The compaction above which a run of kernel `info` is over-compressed.
+    pub fn eps_bound(&self, info: &KernelInfo) -> f64 {
+        info.eps.max.value + self.eps_margin
+    }
+}
+
+/// The outcome class of a point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Class {
+    Ok,
+    Inaccurate,
+    OverCompressed,
+    Failed,
+}
+
+impl Class {
+    pub const ALL: [Class; 4] = [
+        Class::Ok,
+        Class::Inaccurate,
+        Class::OverCompressed,
+        Class::Failed,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Ok => "ok",
+            Class::Inaccurate => "inaccurate",
+            Class::OverCompressed => "over-compressed",
+            Class::Failed => "failed",
+        }
+    }
+    /// Parse a class name as written in rows.
+    pub fn parse(s: &str) -> Option<Class> {
+        Class::ALL.into_iter().find(|c| c.name() == s)
+    }
+}
+
+impl fmt::Display for Class {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A point's sound speed: a rule in scene syntax (`derived`, `0.5*rule10`,
+/// a number) or a multiple of U.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointC0 {
+    Spec(C0Spec),
+    OverU(f64),
+}
+
+impl fmt::Display for PointC0 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PointC0::Spec(s) => write!(f, "{s}"),
+            PointC0::OverU(x) => write!(f, "{x}U"),
+        }
+    }
+}
+
+/// One scene of a sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Position in the whole grid (before sharding).
+    pub index: usize,
+    pub kernel: String,
+    pub n: u32,
+    pub re: f64,
+    pub alpha: f64,
+    pub c0: PointC0,
+}
+
+impl Point {
+    /// The stable key of this point: the same grid values give the same id.
+    pub fn id(&self) -> String {
+        format!(
+            "{}/n={}/re={}/alpha={}/c0={}",
+            self.kernel, self.n, self.re, self.alpha, self.c0
+        )
+    }
+
+    /// The scene: the built-in one, `base` over it, then this point's values.
+    pub fn scene(&self, base: &toml::Table) -> Result<Scene, SceneError> {
+        use toml::Value;
+        let mut over = base.clone();
+        over.remove("c0");
+        over.insert("kernel".into(), Value::String(self.kernel.clone()));
+        over.insert("n_layers".into(), Value::Integer(self.n.into()));
+        over.remove("p");
+        over.insert("re".into(), Value::Float(self.re));
+        over.insert("alpha".into(), Value::Float(self.alpha));
+        let mut scene = Scene::load(None, over)?;
+        scene.c0 = match &self.c0 {
+            PointC0::Spec(s) => s.clone(),
+            PointC0::OverU(x) => C0Spec::Value(x * scene.u),
+        };
+        Ok(scene)
+    }
+}
+
+/// A sweep as written in a sweep file (TOML) or given by flags: the grid, the
+/// base scene and the class rules. Its canonical form is stored as
+/// `sweep.toml` in the output folder and identifies the sweep on resume and
+/// merge.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// Kernel names; empty means every kernel.
+    #[serde(default)]
+    pub kernels: Vec<String>,
+    #[serde(default = "default_n")]
+    pub n: Vec<u32>,
+    #[serde(default = "default_re")]
+    pub re: Vec<f64>,
+    #[serde(default = "default_alpha")]
+    pub alpha: Vec<f64>,
+    /// Sound speeds as rules in scene syntax (`derived`, `derived:MODEL`,
+    /// `rule10`, `table2`, `0.5*derived`, a number).
+    #[serde(default)]
+    pub c0: Vec<String>,
+    /// Sound speeds as multiples of U.
+    #[serde(default)]
+    pub c0_over_u: Vec<f64>,
+    #[serde(default)]
+    pub classes: ClassRules,
+    /// Scene fields laid over the built-in scene for every point (e.g.
+    /// `decay_tol`, `initial`, `u`); the grid's fields win.
+    #[serde(default)]
+    pub scene: toml::Table,
+}
+
+fn default_n() -> Vec<u32> {
+    vec![10]
+}
+fn default_re() -> Vec<f64> {
+    vec![1.0, 30.0]
+}
+fn default_alpha() -> Vec<f64> {
+    vec![crate::scene::DEFAULT_ALPHA]
+}
+
+impl Default for SweepSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("the empty sweep is valid")
+    }
+}
+
+impl SweepSpec {
+    pub fn from_toml(text: &str, origin: &str) -> Result<SweepSpec> {
+        toml::from_str(text).map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a sweep serialises")
+    }
+
+    /// Fill the defaults (every kernel; derived, rule10 and table2 when no
+    /// c0 is given) and check every value, so that the stored form is
+    /// complete and a bad grid fails before anything runs.
+    pub fn resolved(mut self) -> Result<SweepSpec> {
+        if self.kernels.is_empty() {
+            self.kernels = kernels::NAMES.iter().map(|s| s.to_string()).collect();
+        }
+        if self.c0.is_empty() && self.c0_over_u.is_empty() {
+            self.c0 = vec!["derived".into(), "rule10".into(), "table2".into()];
+        }
+        for k in &self.kernels {
+            crate::scene::kernel_info(k)?;
+        }
+        for c in &self.c0 {
+            c.parse::<C0Spec>()
+                .map_err(|e| anyhow::anyhow!("sweep field `c0`: {e}"))?;
+        }
+        let check = |field: &str, empty: bool| -> Result<()> {
+            if empty {
+                bail!("sweep field `{field}` is empty: give at least one value");
+            }
+            Ok(())
+        };
+        check("n", self.n.is_empty())?;
+        check("re", self.re.is_empty())?;
+        check("alpha", self.alpha.is_empty())?;
+        for (field, values) in [("re", &self.re), ("c0_over_u", &self.c0_over_u)] {
+            if let Some(v) = values.iter().find(|v| !(**v > 0.0 && v.is_finite())) {
+                bail!("sweep field `{field}`: {v} must be a positive number");
+            }
+        }
+        if let Some(v) = self.alpha.iter().find(|v| !(0.0..=1.0).contains(*v)) {
+            bail!("sweep field `alpha`: {v} is outside [0, 1]");
+        }
+        for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
+            if self.scene.contains_key(key) {
+                bail!(
+                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own list \
+                     (kernels, n, re, alpha, c0 or c0_over_u) instead"
+                );
+            }
+        }
+        // The base scene must be a valid scene by itself.
+        Scene::load(None, self.scene.clone())
+            .context("sweep field `scene` does not make a valid scene")?;
+        Ok(self)
+    }
+
+    /// Every point of the grid, in grid order (kernel, N, Re, alpha, c0).
+    pub fn points(&self) -> Vec<Point> {
+        let mut c0s: Vec<PointC0> = self
+            .c0
+            .iter()
+            .map(|c| PointC0::Spec(c.parse().expect("checked by resolved()")))
+            .collect();
+        c0s.extend(self.c0_over_u.iter().map(|&x| PointC0::OverU(x)));
+        let mut out = Vec::new();
+        for kernel in &self.kernels {
+            for &n in &self.n {
+                for &re in &self.re {
+                    for &alpha in &self.alpha {
+                        for c0 in &c0s {
+                            out.push(Point {
+                                index: out.len(),
+                                kernel: kernel.clone(),
+                                n,
+                                re,
+                                alpha,
+                                c0: c0.clone(),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// `--shard k/n`: run only the points whose grid index is k modulo n
+/// (0 <= k < n), so n independent jobs cover the sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || {
+            format!("bad shard {s:?}: expected K/N with 0 <= K < N, e.g. 0/4 (Slurm: $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)")
+        };
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let (k, n): (usize, usize) = (
+            k.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if n == 0 || k >= n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+impl Shard {
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.k
+    }
+}
+
+/// One finished point: what was run and what came of it. Non-finite numbers
+/// are written as JSON `null` and read back as NaN.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Row {
+    /// Position in the whole grid.
+    pub index: usize,
+    pub id: String,
+    pub kernel: String,
+    pub n: u32,
+    #[serde(with = "nan_null")]
+    pub re: f64,
+    #[serde(with = "nan_null")]
+    pub alpha: f64,
+    /// The c0 as gridded: a rule (`derived`, `rule10`, `0.5*table2`), a
+    /// number, or a multiple of U (`3U`).
+    pub c0_spec: String,
+    /// The rule it resolved to (`derived:field-av`, `rule10`, `table2`,
+    /// `value`), with the model named.
+    pub c0_rule: String,
+    /// The sound speed (NaN when the rule gives none).
+    #[serde(with = "nan_null")]
+    pub c0: f64,
+    #[serde(with = "nan_null")]
+    pub c0_over_u: f64,
+    pub class: Class,
+    /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
+    /// scene is invalid), `panic`, or the solver's failure kind
+    /// (`not_finite`, `speed`, `through_wall`, `compaction`).
+    pub failure_kind: Option<String>,
+    pub failure_reason: Option<String>,
+    /// L_inf and L2 errors of the layer-mean velocity / U at t_end, and the
+    /// worst L_inf over the output times (what `inaccurate` is judged by).
+    #[serde(with = "nan_null")]
+    pub linf: f64,
+    #[serde(with = "nan_null")]
+    pub linf_max: f64,
+    #[serde(with = "nan_null")]
+    pub l2: f64,
+    /// Largest fluid compaction over the run, and the bound for `over-compressed`.
+    #[serde(with = "nan_null")]
+    pub max_eps: f64,
+    #[serde(with = "nan_null")]
+    pub eps_bound: f64,
+    /// RMS transverse velocity / U at the end.
+    #[serde(with = "nan_null")]
+    pub rms_v: f64,
+    pub steps: u64,
+    /// The time-step limit that bound the most steps (`cfl`, `viscous`,
+    /// `force`), and the last full step.
+    pub dt_limit: Option<String>,
+    #[serde(with = "nan_null")]
+    pub dt: f64,
+    /// Fluid and wall particles.
+    pub particles: usize,
+    /// particles x steps: the work, independent of the machine.
+    pub particle_steps: f64,
+    #[serde(with = "nan_null")]
+    pub t_end: f64,
+    /// Time reached.
+    #[serde(with = "nan_null")]
+    pub t: f64,
+    /// Wall-clock seconds of the simulation.
+    #[serde(with = "nan_null")]
+    pub wall_s: f64,
+}
+
+/// f64 fields in JSON: non-finite values as `null`, `null` read as NaN.
+mod nan_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() {
+            s.serialize_f64(*v)
+        } else {
+            s.serialize_none()
+        }
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+    }
+}
+
+impl Row {
+    /// A row for a point that did not run (no c0, invalid scene, panic).
+    fn not_run(point: &Point, kind: &str, reason: String, c0: f64, c0_rule: String) -> Row {
+        Row {
+            index: point.index,
+            id: point.id(),
+            kernel: point.kernel.clone(),
+            n: point.n,
+            re: point.re,
+            alpha: point.alpha,
+            c0_spec: point.c0.to_string(),
+            c0_rule,
+            c0,
+            c0_over_u: f64::NAN,
+            class: Class::Failed,
+            failure_kind: Some(kind.to_string()),
+            failure_reason: Some(reason),
+            linf: f64::NAN,
+            linf_max: f64::NAN,
+            l2: f64::NAN,
+            max_eps: f64::NAN,
+            eps_bound: f64::NAN,
+            rms_v: f64::NAN,
+            steps: 0,
+            dt_limit: None,
+            dt: f64::NAN,
+            particles: 0,
+            particle_steps: 0.0,
+            t_end: f64::NAN,
+            t: 0.0,
+            wall_s: 0.0,
+        }
+    }
+
+    /// The row of a finished run, classified by `rules`.
+    pub fn from_run(point: &Point, r: &RunResult, rules: &ClassRules) -> Row {
+        let s = Summary::new(r);
+        let eps_bound = rules.eps_bound(r.problem.kernel);
+        let (class, failure_kind) = match &r.outcome {
+            solver::Outcome::Failed { failure, .. } => {
+                let kind = serde_json::to_value(failure)
+                    .ok()
+                    .and_then(|v| v["kind"].as_str().map(str::to_string))
+                    .unwrap_or_else(|| "failed".into());
+                (Class::Failed, Some(kind))
+            }
+            solver::Outcome::Ok => (
+                classify(s.linf_rel_err_max, s.max_eps, rules.linf_bound, eps_bound),
+                None,
+            ),
+        };
+        let failure_reason = match class {
+            Class::Failed => Some(
+                s.failure_reason
+                    .clone()
+                    .map(|r| format!("{r} (t = {:.4})", s.failure_t.unwrap_or(f64::NAN)))
+                    .unwrap_or_else(|| "the velocity error is not finite".into()),
+            ),
+            _ => None,
+        };
+        let failure_kind = match (class, failure_kind) {
+            (Class::Failed, None) => Some("not_finite".into()),
+            (_, k) => k,
+        };
+        Row {
+            index: point.index,
+            id: point.id(),
+            kernel: s.kernel.clone(),
+            n: s.n_layers,
+            re: point.re,
+            alpha: s.alpha,
+            c0_spec: point.c0.to_string(),
+            c0_rule: s.c0_rule.clone(),
+            c0: s.c0,
+            c0_over_u: s.c0 / s.u,
+            class,
+            failure_kind,
+            failure_reason,
+            linf: s.linf_rel_err,
+            linf_max: s.linf_rel_err_max,
+            l2: s.l2_rel_err,
+            max_eps: s.max_eps,
+            eps_bound,
+            rms_v: s.rms_v / s.u,
+            steps: s.steps,
+            dt_limit: Some(r.dt.dominant().name().to_string()),
+            dt: s.dt,
+            particles: s.particles,
+            particle_steps: s.particles as f64 * s.steps as f64,
+            t_end: s.t_end,
+            t: s.t,
+            wall_s: s.wall_s,
+        }
+    }
+
+    /// The row as JSON with the wall-clock time left out: what two runs of
+    /// the same point agree on.
+    pub fn without_timing(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("a row serialises");
+        v.as_object_mut()
+            .expect("a row is an object")
+            .remove("wall_s");
+        v
+    }
+}
+
+/// The class of a run that did not fail: over-compressed before inaccurate
+/// (a compacted lattice is the worse fault), NaN errors count as failed.
+pub fn classify(linf_max: f64, max_eps: f64, linf_bound: f64, eps_bound: f64) -> Class {
+    if !(linf_max.is_finite() && max_eps.is_finite()) {
+        Class::Failed
+    } else if max_eps > eps_bound {
+        Class::OverCompressed
+    } else if linf_max > linf_bound {
+        Class::Inaccurate
+    } else {
+        Class::Ok
+    }
+}
+
+/// The payload a stopped scene unwinds with.
+struct Stopped;
+
+/// Watches the stop flag from inside a running scene; the solver has no stop
+/// signal of its own, so a stop unwinds out of `Observer::step` with a
+/// private payload (`resume_unwind` runs no panic hook) and [`run_point`]
+/// catches it. The scene's partial state is dropped whole.
+struct StopWatch<'a> {
+    stop: &'a AtomicBool,
+}
+
+impl Observer for StopWatch<'_> {
+    fn step(&mut self, _t: f64, steps: u64) {
+        if steps.is_multiple_of(32) && self.stop.load(Ordering::Relaxed) {
+            panic::resume_unwind(Box::new(Stopped));
+        }
+    }
+}
+
+fn simulate_by_name(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult, SceneError> {
+    struct Visit<'a> {
+        scene: &'a Scene,
+        observer: &'a mut dyn Observer,
+    }
+    impl KernelVisitor for Visit<'_> {
+        type Output = Result<RunResult, SceneError>;
+        fn visit<K: Kernel>(self) -> Self::Output {
+            solver::simulate::<K>(self.scene, self.observer)
+        }
+    }
+    crate::scene::kernel_info(&scene.kernel)?;
+    kernels::with_kernel(&scene.kernel, Visit { scene, observer })
+        .expect("the registry runs every kernel it lists")
+}
+
+/// Run one point on the current thread (and rayon pool). `None` when the
+/// stop flag ended it before it finished.
+pub fn run_point(
+    point: &Point,
+    base: &toml::Table,
+    rules: &ClassRules,
+    stop: &AtomicBool,
+) -> Option<Row> {
+    if stop.load(Ordering::Relaxed) {
+        return None;
+    }
+    let scene = match point.scene(base) {
+        Ok(s) => s,
+        Err(e) => {
+            return Some(Row::not_run(
+                point,
+                "scene",
+                e.to_string(),
+                f64::NAN,
+                String::new(),
+            ))
+        }
+    };
+    let info = match scene.kernel_info() {
+        Ok(i) => i,
+        Err(e) => {
+            return Some(Row::not_run(
+                point,
+                "scene",
+                e.to_string(),
+                f64::NAN,
+                String::new(),
+            ))
+        }
+    };
+    if let Err(e) = Problem::new(&scene, info) {
+        let (c0, rule) = c0_of(&scene, info);
+        let kind = match &e {
+            SceneError::Invalid { field: "c0", .. } => "no_c0",
+            _ => "scene",
+        };
+        let reason = if kind == "no_c0" && !rule.is_empty() {
+            format!("{rule} gives c0 = {c0:.6}: no positive root for this scene")
+        } else {
+            e.to_string()
+        };
+        let mut row = Row::not_run(point, kind, reason, c0, rule);
+        row.c0_over_u = c0 / scene.u;
+        return Some(row);
+    }
+    let mut watch = StopWatch { stop };
+    let result = panic::catch_unwind(AssertUnwindSafe(|| simulate_by_name(&scene, &mut watch)));
+    match result {
+        Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
+        Ok(Err(e)) => Some(Row::not_run(
+            point,
+            "scene",
+            e.to_string(),
+            f64::NAN,
+            String::new(),
+        )),
+        Err(payload) if payload.is::<Stopped>() => None,
+        Err(payload) => {
+            let msg = payload
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown".into());
+            Some(Row::not_run(
+                point,
+                "panic",
+                format!("the solver panicked: {msg}"),
+                f64::NAN,
+                String::new(),
+            ))
+        }
+    }
+}
+
+/// The c0 a scene's rule gives (for the record when it is not positive).
+fn c0_of(scene: &Scene, info: &'static KernelInfo) -> (f64, String) {
+    let C0Spec::Rule { factor, rule } = &scene.c0 else {
+        let C0Spec::Value(v) = scene.c0 else {
+            unreachable!()
+        };
+        return (v, "value".into());
+    };
+    let probe = Scene {
+        c0: C0Spec::Value(1.0),
+        ..scene.clone()
+    };
+    let Ok(problem) = Problem::new(&probe, info) else {
+        return (f64::NAN, rule.to_string());
+    };
+    match c0_by_rule(rule, info, scene, &problem.flow) {
+        Ok((c0, name)) => {
+            let name = if *factor == 1.0 {
+                name
+            } else {
+                format!("{factor}*{name}")
+            };
+            (factor * c0, name)
+        }
+        Err(_) => (f64::NAN, rule.to_string()),
+    }
+}
+
+/// Estimated work of a point (particles x steps at the starting time step),
+/// to start the longest first. Zero when the point will not run.
+pub fn estimated_cost(point: &Point, base: &toml::Table) -> f64 {
+    let Ok(scene) = point.scene(base) else {
+        return 0.0;
+    };
+    let Ok(info) = scene.kernel_info() else {
+        return 0.0;
+    };
+    let Ok(p) = Problem::new(&scene, info) else {
+        return 0.0;
+    };
+    let ts = TimeStep::new(p.lattice.h, p.c0, p.flow.nu, p.flow.u, p.flow.p);
+    p.lattice.n_particles() as f64 * (p.t_end / ts.dt).ceil()
+}
+
+/// How to run many scenes.
+#[derive(Debug, Clone, Copy)]
+pub struct Parallel {
+    /// Scenes at once.
+    pub jobs: usize,
+    /// Threads inside each scene (1: each scene single-threaded).
+    pub threads_per_scene: usize,
+}
+
+impl Parallel {
+    /// One scene per core, each single-threaded.
+    pub fn per_core() -> Parallel {
+        Parallel::new(None, 1)
+    }
+
+    /// `jobs` scenes at once (default: cores / threads_per_scene, at least 1).
+    pub fn new(jobs: Option<usize>, threads_per_scene: usize) -> Parallel {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let threads_per_scene = threads_per_scene.max(1);
+        Parallel {
+            jobs: jobs.unwrap_or(cores / threads_per_scene).max(1),
+            threads_per_scene,
+        }
+    }
+
+    /// Run `f` over `items` on `jobs` workers, each with its own rayon pool
+    /// of `threads_per_scene` threads, taking items in order. `done` is called
+    /// on the worker as each item finishes. An item whose `f` gives `None`
+    /// (stopped) stops that worker. Results in item order.
+    pub fn map<T, R, F, D>(
+        &self,
+        items: &[T],
+        stop: &AtomicBool,
+        f: F,
+        done: D,
+    ) -> Result<Vec<Option<R>>>
+    where
+        T: Sync,
+        R: Send,
+        F: Fn(&T) -> Option<R> + Sync,
+        D: Fn(usize, &R) + Sync,
+    {
+        let next = AtomicUsize::new(0);
+        let results: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
+        let workers = self.jobs.min(items.len()).max(1);
+        let errors: Mutex<Vec<anyhow::Error>> = Mutex::new(Vec::new());
+        std::thread::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|| {
+                    let pool = match rayon::ThreadPoolBuilder::new()
+                        .num_threads(self.threads_per_scene)
+                        .build()
+                    {
+                        Ok(p) => p,
+                        Err(e) => {
+                            errors
+                                .lock()
+                                .unwrap()
+                                .push(anyhow::anyhow!("building a thread pool: {e}"));
+                            return;
+                        }
+                    };
+                    loop {
+                        if stop.load(Ordering::Relaxed) {
+                            return;
+                        }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= items.len() {
+                            return;
+                        }
+                        match pool.install(|| f(&items[i])) {
+                            Some(r) => {
+                                done(i, &r);
+                                results.lock().unwrap()[i] = Some(r);
+                            }
+                            None => return,
+                        }
+                    }
+                });
+            }
+        });
+        if let Some(e) = errors.into_inner().unwrap().pop() {
+            return Err(e);
+        }
+        Ok(results.into_inner().unwrap())
+    }
+}
+
+/// Run `points` (longest first), skipping any whose id is in `done_ids`.
+/// `on_row` sees each row as it finishes (on a worker thread). Returns the
+/// new rows, in grid order, and whether the stop flag cut the run short.
+pub fn run_points(
+    points: &[Point],
+    base: &toml::Table,
+    rules: &ClassRules,
+    par: Parallel,
+    stop: &AtomicBool,
+    on_row: &(dyn Fn(&Row) + Sync),
+) -> Result<(Vec<Row>, bool)> {
+    let mut todo: Vec<(f64, &Point)> = points
+        .iter()
+        .map(|p| (estimated_cost(p, base), p))
+        .collect();
+    todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.index.cmp(&b.1.index)));
+    let todo: Vec<&Point> = todo.into_iter().map(|t| t.1).collect();
+    let results = par.map(
+        &todo,
+        stop,
+        |p| run_point(p, base, rules, stop),
+        |_, row| on_row(row),
+    )?;
+    let finished = results.iter().filter(|r| r.is_some()).count();
+    let mut rows: Vec<Row> = results.into_iter().flatten().collect();
+    rows.sort_by_key(|r| r.index);
+    Ok((rows, finished < todo.len()))
+}
+
+/// What a sweep run did.
+#[derive(Debug)]
+pub struct SweepRun {
+    pub spec: SweepSpec,
+    /// Every finished row in the folder, this run's and earlier ones', in
+    /// grid order.
+    pub rows: Vec<Row>,
+    /// Points of this shard: finished now, finished before, still to run.
+    pub ran: usize,
+    pub already: usize,
+    pub remaining: usize,
+    /// The stop flag cut this run short.
+    pub interrupted: bool,
+}
+
+/// Run (or resume) the sweep in `dir`: see [`store::open`] for `spec` and
+/// `force`. Only the points of `shard` run; finished points are skipped.
+/// `bar` counts the points of this run.
+#[allow(clippy::too_many_arguments)]
+pub fn run_sweep(
+    dir: &Path,
+    spec: Option<SweepSpec>,
+    force: bool,
+    shard: Option<Shard>,
+    par: Parallel,
+    stop: &AtomicBool,
+    bar: &ProgressBar,
+) -> Result<SweepRun> {
+    let (spec, done) = store::open(dir, spec, force)?;
+    let done_ids: BTreeSet<String> = done.iter().map(|r| r.id.clone()).collect();
+    let (already, todo): (Vec<Point>, Vec<Point>) = spec
+        .points()
+        .into_iter()
+        .filter(|p| shard.is_none_or(|s| s.contains(p.index)))
+        .partition(|p| done_ids.contains(&p.id()));
+    bar.set_length(todo.len() as u64);
+    let appender = store::Appender::open(dir)?;
+    let append_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let counts = Mutex::new([0usize; 4]);
+    let on_row = |row: &Row| {
+        if let Err(e) = appender.append(row) {
+            append_error.lock().unwrap().get_or_insert(e);
+            stop.store(true, Ordering::Relaxed);
+        }
+        let mut c = counts.lock().unwrap();
+        c[row.class as usize] += 1;
+        bar.set_message(format!(
+            "ok {} inaccurate {} over-compressed {} failed {}",
+            c[0], c[1], c[2], c[3]
+        ));
+        bar.inc(1);
+    };
+    let (new_rows, interrupted) =
+        run_points(&todo, &spec.scene, &spec.classes, par, stop, &on_row)?;
+    if let Some(e) = append_error.into_inner().unwrap() {
+        return Err(e);
+    }
+    let ran = new_rows.len();
+    let mut rows = done;
+    rows.extend(new_rows);
+    let rows = store::canonical(rows);
+    store::write_csv(dir, &rows)?;
+    Ok(SweepRun {
+        spec,
+        rows,
+        ran,
+        already: already.len(),
+        remaining: todo.len() - ran,
+        interrupted,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_parses_and_partitions() {
+        let s: Shard = "1/3".parse().unwrap();
+        assert_eq!((s.k, s.n), (1, 3));
+        assert!(s.contains(4) && !s.contains(3));
+        for bad in ["3/3", "1", "a/2", "0/0", "-1/2"] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn classes_order_their_faults() {
+        assert_eq!(classify(0.01, 0.0, 0.05, 0.02), Class::Ok);
+        assert_eq!(classify(0.06, 0.0, 0.05, 0.02), Class::Inaccurate);
+        assert_eq!(classify(0.06, 0.03, 0.05, 0.02), Class::OverCompressed);
+        assert_eq!(classify(f64::NAN, 0.0, 0.05, 0.02), Class::Failed);
+        for c in Class::ALL {
+            assert_eq!(Class::parse(c.name()), Some(c));
+        }
+    }
+
+    #[test]
+    fn grid_ids_are_stable_and_distinct() {
+        let spec = SweepSpec {
+            c0: vec!["rule10".into()],
+            c0_over_u: vec![0.5, 3.0],
+            ..SweepSpec::default()
+        }
+        .resolved()
+        .unwrap();
+        let points = spec.points();
+        let ids: std::collections::BTreeSet<String> = points.iter().map(Point::id).collect();
+        assert_eq!(ids.len(), points.len());
+        assert!(
+            ids.contains("monaghan/n=10/re=30/alpha=0.1/c0=rule10"),
+            "{ids:?}"
+        );
+        assert!(
+            ids.contains("morris/n=10/re=1/alpha=0.1/c0=0.5U"),
+            "{ids:?}"
+        );
+        assert!(points.iter().enumerate().all(|(i, p)| p.index == i));
+    }
+}

@@ -1,0 +1,273 @@
+//! A sweep's folder: `sweep.toml` (the sweep, which identifies it),
+//! `results.jsonl` (one JSON row per finished point, appended and fsynced as
+//! each finishes) and `results.csv` (the same rows in grid order, rewritten
+//! atomically when a sweep ends or stops). A crash can cut only the last
+//! JSON line short; such a line is ignored, and dropped when the sweep
+//! resumes.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::fs::{File, OpenOptions};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use anyhow::{bail, Context, Result};
+
+use super::{Row, SweepSpec};
+use crate::output::{prepare_dir, write_atomic};
+
+pub const SPEC_FILE: &str = "sweep.toml";
+pub const JSONL_FILE: &str = "results.jsonl";
+pub const CSV_FILE: &str = "results.csv";
+
+/// The rows of a JSON-lines file, skipping a last line without its newline
+/// (cut short by a crash). A missing file has no rows.
+pub fn read_rows(path: &Path) -> Result<Vec<Row>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e).with_context(|| format!("reading {}", path.display())),
+    };
+    let complete = match text.rfind('\n') {
+        Some(end) => &text[..=end],
+        None => "",
+    };
+    complete
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, line)| {
+            serde_json::from_str(line).with_context(|| {
+                format!(
+                    "{} line {}: not a sweep row; the file was edited or is from another version \
+                     (remove the line, or restart the sweep with --force)",
+                    path.display(),
+                    i + 1
+                )
+            })
+        })
+        .collect()
+}
+
+/// Appends rows to `results.jsonl`, one line each, fsynced.
+pub struct Appender {
+    file: Mutex<File>,
+    path: PathBuf,
+}
+
+impl Appender {
+    /// Open the folder's row file for appending, first dropping a last line
+    /// cut short by a crash.
+    pub fn open(dir: &Path) -> Result<Appender> {
+        let path = dir.join(JSONL_FILE);
+        if let Ok(bytes) = std::fs::read(&path) {
+            let keep = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            if keep < bytes.len() {
+                write_atomic(&path, &bytes[..keep])?;
+            }
+        }
+        let file = OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&path)
+            .with_context(|| format!("opening {}", path.display()))?;
+        Ok(Appender {
+            file: Mutex::new(file),
+            path,
+        })
+    }
+
+    pub fn append(&self, row: &Row) -> Result<()> {
+        let mut line = serde_json::to_string(row).expect("a row serialises");
+        line.push('\n');
+        let mut f = self.file.lock().unwrap();
+        f.write_all(line.as_bytes())
+            .and_then(|()| f.sync_data())
+            .with_context(|| format!("appending to {}", self.path.display()))
+    }
+}
+
+/// CSV column names, in the order of [`csv_fields`].
+pub const CSV_COLUMNS: &[&str] = &[
+    "index",
+    "id",
+    "kernel",
+    "n",
+    "re",
+    "alpha",
+    "c0_spec",
+    "c0_rule",
+    "c0",
+    "c0_over_u",
+    "class",
+    "failure_kind",
+    "failure_reason",
+    "linf",
+    "linf_max",
+    "l2",
+    "max_eps",
+    "eps_bound",
+    "rms_v",
+    "steps",
+    "dt_limit",
+    "dt",
+    "particles",
+    "particle_steps",
+    "t_end",
+    "t",
+    "wall_s",
+];
+
+fn csv_fields(r: &Row) -> Vec<String> {
+    let f = |v: f64| v.to_string();
+    vec![
+        r.index.to_string(),
+        r.id.clone(),
+        r.kernel.clone(),
+        r.n.to_string(),
+        f(r.re),
+        f(r.alpha),
+        r.c0_spec.clone(),
+        r.c0_rule.clone(),
+        f(r.c0),
+        f(r.c0_over_u),
+        r.class.to_string(),
+        r.failure_kind.clone().unwrap_or_default(),
+        r.failure_reason.clone().unwrap_or_default(),
+        f(r.linf),
+        f(r.linf_max),
+        f(r.l2),
+        f(r.max_eps),
+        f(r.eps_bound),
+        f(r.rms_v),
+        r.steps.to_string(),
+        r.dt_limit.clone().unwrap_or_default(),
+        f(r.dt),
+        r.particles.to_string(),
+        f(r.particle_steps),
+        f(r.t_end),
+        f(r.t),
+        f(r.wall_s),
+    ]
+}
+
+/// One CSV field, quoted when it holds a comma, a quote or a line break.
+pub fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The rows as CSV (header first; NaN written `NaN`).
+pub fn rows_csv(rows: &[Row]) -> String {
+    let mut out = CSV_COLUMNS.join(",");
+    out.push('\n');
+    for r in rows {
+        let line: Vec<String> = csv_fields(r).iter().map(|s| csv_field(s)).collect();
+        let _ = writeln!(out, "{}", line.join(","));
+    }
+    out
+}
+
+/// Rows in grid order, one per id (the first of duplicates).
+pub fn canonical(mut rows: Vec<Row>) -> Vec<Row> {
+    let mut seen = BTreeSet::new();
+    rows.retain(|r| seen.insert(r.id.clone()));
+    rows.sort_by_key(|r| r.index);
+    rows
+}
+
+pub fn write_csv(dir: &Path, rows: &[Row]) -> Result<()> {
+    write_atomic(&dir.join(CSV_FILE), rows_csv(rows).as_bytes())
+}
+
+fn read_spec(dir: &Path) -> Result<Option<SweepSpec>> {
+    let path = dir.join(SPEC_FILE);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => Ok(Some(SweepSpec::from_toml(
+            &text,
+            &path.display().to_string(),
+        )?)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e).with_context(|| format!("reading {}", path.display())),
+    }
+}
+
+/// Open a sweep folder. With a `spec`: start it there (an existing folder
+/// must hold the same sweep, whose finished rows are kept, unless `force`
+/// starts over). Without: resume the sweep the folder holds. Returns the
+/// sweep and its finished rows.
+pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSpec, Vec<Row>)> {
+    let stored = if dir.is_dir() { read_spec(dir)? } else { None };
+    match (stored, spec) {
+        (Some(stored), spec) if !force => {
+            if let Some(spec) = spec {
+                if spec != stored {
+                    bail!(
+                        "{} holds a different sweep ({}); resume it with the same grid (or with no grid \
+                         flags), choose another --out, or pass --force to start over",
+                        dir.display(),
+                        dir.join(SPEC_FILE).display()
+                    );
+                }
+            }
+            let rows = read_rows(&dir.join(JSONL_FILE))?;
+            Ok((stored, canonical(rows)))
+        }
+        (stored, spec) => {
+            let spec = match (spec, stored) {
+                (Some(s), _) => s,
+                (None, Some(s)) => s,
+                (None, None) => SweepSpec::default().resolved()?,
+            };
+            prepare_dir(dir, force)?;
+            for f in [JSONL_FILE, CSV_FILE] {
+                let p = dir.join(f);
+                if p.exists() {
+                    std::fs::remove_file(&p)
+                        .with_context(|| format!("removing {}", p.display()))?;
+                }
+            }
+            write_atomic(&dir.join(SPEC_FILE), spec.to_toml().as_bytes())?;
+            Ok((spec, Vec::new()))
+        }
+    }
+}
+
+/// Combine the rows of shard folders of one sweep into `out`: every folder
+/// must hold the same `sweep.toml`; a point finished in several keeps its
+/// first row. Returns the sweep and the merged rows, in grid order.
+pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Vec<Row>)> {
+    let Some(first) = dirs.first() else {
+        bail!("merge needs at least one sweep folder");
+    };
+    let spec = read_spec(first)?
+        .with_context(|| format!("{} is not a sweep folder (no {SPEC_FILE})", first.display()))?;
+    let mut rows = Vec::new();
+    for dir in dirs {
+        let own = read_spec(dir)?
+            .with_context(|| format!("{} is not a sweep folder (no {SPEC_FILE})", dir.display()))?;
+        if own != spec {
+            bail!(
+                "{} holds a different sweep from {} (their {SPEC_FILE} differ): only shards of one sweep merge",
+                dir.display(),
+                first.display()
+            );
+        }
+        rows.extend(read_rows(&dir.join(JSONL_FILE))?);
+    }
+    let rows = canonical(rows);
+    prepare_dir(out, force)?;
+    write_atomic(&out.join(SPEC_FILE), spec.to_toml().as_bytes())?;
+    let mut jsonl = String::new();
+    for r in &rows {
+        jsonl.push_str(&serde_json::to_string(r).expect("a row serialises"));
+        jsonl.push('\n');
+    }
+    write_atomic(&out.join(JSONL_FILE), jsonl.as_bytes())?;
+    write_csv(out, &rows)?;
+    Ok((spec, rows))
+}
