@@ -23,6 +23,10 @@ enum Command {
     Run(cli::run::RunArgs),
     /// c0 for a kernel and a scene by every rule, with the time step each implies.
     C0(cli::c0::C0Args),
+    /// Many scenes in parallel over a grid: resumable, shardable; error against cost, stability maps.
+    Sweep(cli::sweep::SweepArgs),
+    /// The main job: the paper's tables and Figure 4, c0 by every rule, the solver's verdicts, in out/report/index.html.
+    Report(cli::report::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +34,8 @@ fn main() -> ExitCode {
         Command::Kernels(args) => cli::kernels::main(args),
         Command::Run(args) => cli::run::main(args),
         Command::C0(args) => cli::c0::main(args),
+        Command::Sweep(args) => cli::sweep::main(args),
+        Command::Report(args) => cli::report::main(args),
     };
     cli::report(result)
 }

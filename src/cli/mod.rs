@@ -4,7 +4,9 @@
 
 pub mod c0;
 pub mod kernels;
+pub mod report;
 pub mod run;
+pub mod sweep;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

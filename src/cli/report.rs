@@ -1,0 +1,63 @@
+//! `shearsph report`: the main job. Runs the embedded report config (or the
+//! tiny one with --quick) and writes `index.html` with every table, figure
+//! and verdict, the figures as SVG files and the CSV behind each.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use super::sweep::{scenes_bar, stop_on_ctrl_c};
+use crate::report::{self, Config, Options};
+use crate::sweep::Parallel;
+
+/// Reproduce the paper's tables and figure, test the derived c0 with the
+/// solver, and write a self-contained report.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Output folder.
+    #[arg(long, default_value = "out/report")]
+    pub out: PathBuf,
+    /// Overwrite the files of an existing output folder.
+    #[arg(long)]
+    pub force: bool,
+    /// A tiny report in seconds (short runs, small grids): for tests.
+    #[arg(long)]
+    pub quick: bool,
+    /// A report config (TOML, as src/report/report.toml) instead of the
+    /// embedded one.
+    #[arg(long, value_name = "FILE", conflicts_with = "quick")]
+    pub config: Option<PathBuf>,
+    /// Scenes at once (default: one per core).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// No progress bar (the stage lines still go to stderr).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+pub fn main(args: ReportArgs) -> Result<ExitCode> {
+    let config = match (&args.config, args.quick) {
+        (Some(path), _) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            Config::parse(&text, &path.display().to_string())?
+        }
+        (None, true) => Config::quick(),
+        (None, false) => Config::default_full(),
+    };
+    let stop = stop_on_ctrl_c()?;
+    let bar = scenes_bar(args.quiet);
+    let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
+    let opts = Options {
+        par: Parallel::new(args.jobs, 1),
+        force: args.force,
+    };
+    let data = report::run(&config, args.quick, &args.out, opts, &stop, &bar, &log)?;
+    for v in &data.verdicts {
+        println!("{}", v.summary);
+    }
+    println!("open {}", args.out.join("index.html").display());
+    Ok(ExitCode::SUCCESS)
+}

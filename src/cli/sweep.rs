@@ -1,0 +1,373 @@
+//! `shearsph sweep`: many scenes in parallel over a grid (kernels x N x Re x
+//! alpha x c0), resumable and shardable; `shearsph sweep merge` combines
+//! shard folders. Writes `results.jsonl`, `results.csv` and the charts (speed
+//! against accuracy, a stability map per kernel) into the output folder.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+use crate::charts;
+use crate::output::write_atomic;
+use crate::report;
+use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
+
+/// Exit status of a sweep stopped by Ctrl-C (its finished rows are kept).
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Run a grid of scenes in parallel, or merge shard folders.
+///
+/// The grid comes from --sweep FILE (TOML: kernels, n, re, alpha, c0,
+/// c0_over_u, [classes], [scene]) and/or the flags (lists, comma-separated;
+/// a flag replaces the file's list). With neither, the folder's own sweep is
+/// resumed (or the default grid started). A finished point is never rerun.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct SweepArgs {
+    #[command(subcommand)]
+    pub command: Option<SweepCommand>,
+    #[command(flatten)]
+    pub run: RunSweepArgs,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// Combine the folders of shards (--shard k/n) of one sweep into one.
+    Merge(MergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard folders, each holding the same sweep.toml.
+    #[arg(required = true, value_name = "DIR")]
+    pub dirs: Vec<PathBuf>,
+    /// Folder for the merged rows and charts.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Overwrite the files of an existing output folder.
+    #[arg(long)]
+    pub force: bool,
+    /// No charts, only the rows.
+    #[arg(long)]
+    pub no_charts: bool,
+}
+
+#[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
+pub struct RunSweepArgs {
+    /// Sweep file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub sweep: Option<PathBuf>,
+    /// Kernels (default: every kernel).
+    #[arg(long, value_delimiter = ',')]
+    pub kernel: Vec<String>,
+    /// N values.
+    #[arg(long, value_delimiter = ',')]
+    pub n: Vec<u32>,
+    /// Reynolds numbers.
+    #[arg(long, value_delimiter = ',')]
+    pub re: Vec<f64>,
+    /// Artificial viscosity coefficients.
+    #[arg(long, value_delimiter = ',')]
+    pub alpha: Vec<f64>,
+    /// Sound speeds as rules (derived, derived:MODEL, rule10, table2,
+    /// F*RULE) or numbers.
+    #[arg(long, value_delimiter = ',')]
+    pub c0: Vec<String>,
+    /// Sound speeds as multiples of U.
+    #[arg(long, value_delimiter = ',')]
+    pub c0_over_u: Vec<f64>,
+    /// A scene file whose fields every point starts from (the grid's win).
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// End time of every scene (default: the start-up's decay time).
+    #[arg(long)]
+    pub t_end: Option<f64>,
+    /// Tolerance for the default end time.
+    #[arg(long)]
+    pub decay_tol: Option<f64>,
+    /// L_inf error / U above which a run is `inaccurate` (default 0.05).
+    #[arg(long)]
+    pub linf_bound: Option<f64>,
+    /// Compaction above the kernel's eps0 at which a run is
+    /// `over-compressed` (default 0.01).
+    #[arg(long)]
+    pub eps_margin: Option<f64>,
+    /// Output folder.
+    #[arg(long, default_value = "out/sweep")]
+    pub out: PathBuf,
+    /// Start over in an existing folder (its rows are dropped).
+    #[arg(long)]
+    pub force: bool,
+    /// Run only grid points k, k + n, k + 2n, ... (0 <= k < n).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// Scenes at once (default: cores / threads-per-scene).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Threads inside each scene.
+    #[arg(long, default_value_t = 1)]
+    pub threads_per_scene: usize,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// No charts, only the rows.
+    #[arg(long)]
+    pub no_charts: bool,
+    /// Print what the sweep did as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl RunSweepArgs {
+    fn has_grid(&self) -> bool {
+        self.sweep.is_some()
+            || !self.kernel.is_empty()
+            || !self.n.is_empty()
+            || !self.re.is_empty()
+            || !self.alpha.is_empty()
+            || !self.c0.is_empty()
+            || !self.c0_over_u.is_empty()
+            || self.scene.is_some()
+            || self.t_end.is_some()
+            || self.decay_tol.is_some()
+            || self.linf_bound.is_some()
+            || self.eps_margin.is_some()
+    }
+
+    /// The sweep the flags and file give, or `None` for "the folder's own".
+    pub fn spec(&self) -> Result<Option<SweepSpec>> {
+        if !self.has_grid() {
+            return Ok(None);
+        }
+        let mut spec = match &self.sweep {
+            Some(path) => {
+                let text = std::fs::read_to_string(path)
+                    .with_context(|| format!("reading sweep file {}", path.display()))?;
+                SweepSpec::from_toml(&text, &format!("sweep file {}", path.display()))?
+            }
+            None => SweepSpec::default(),
+        };
+        let mut set = |flag: bool, f: &mut dyn FnMut(&mut SweepSpec)| {
+            if flag {
+                f(&mut spec);
+            }
+        };
+        set(!self.kernel.is_empty(), &mut |s| {
+            s.kernels = self.kernel.clone()
+        });
+        set(!self.n.is_empty(), &mut |s| s.n = self.n.clone());
+        set(!self.re.is_empty(), &mut |s| s.re = self.re.clone());
+        set(!self.alpha.is_empty(), &mut |s| {
+            s.alpha = self.alpha.clone()
+        });
+        set(
+            !self.c0.is_empty() || !self.c0_over_u.is_empty(),
+            &mut |s| {
+                s.c0 = self.c0.clone();
+                s.c0_over_u = self.c0_over_u.clone();
+            },
+        );
+        if let Some(path) = &self.scene {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading scene file {}", path.display()))?;
+            let table: toml::Table = text
+                .parse()
+                .with_context(|| format!("scene file {}", path.display()))?;
+            crate::scene::overlay(&mut spec.scene, table);
+        }
+        if let Some(t) = self.t_end {
+            spec.scene.insert("t_end".into(), toml::Value::Float(t));
+        }
+        if let Some(t) = self.decay_tol {
+            spec.scene.insert("decay_tol".into(), toml::Value::Float(t));
+        }
+        if let Some(b) = self.linf_bound {
+            spec.classes.linf_bound = b;
+        }
+        if let Some(m) = self.eps_margin {
+            spec.classes.eps_margin = m;
+        }
+        Ok(Some(spec.resolved()?))
+    }
+}
+
+/// A stop flag set by Ctrl-C (SIGINT): the first press stops cleanly, a
+/// second quits at once (rows already written are kept either way).
+pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            eprintln!("\ninterrupted again: quitting now");
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+        eprintln!("\ninterrupted: stopping the running scenes; finished rows are kept (Ctrl-C again quits at once)");
+    })
+    .context("installing the Ctrl-C handler")?;
+    Ok(stop)
+}
+
+/// A progress bar over `len` scenes on stderr, hidden when stderr is not a
+/// terminal or `quiet`.
+pub fn scenes_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(0);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} scenes  {msg}",
+        )
+        .expect("valid template"),
+    );
+    bar
+}
+
+#[derive(Debug, Serialize)]
+struct SweepReport<'a> {
+    out: &'a Path,
+    points: usize,
+    ran: usize,
+    already: usize,
+    remaining: usize,
+    interrupted: bool,
+    ok: usize,
+    inaccurate: usize,
+    over_compressed: usize,
+    failed: usize,
+}
+
+pub fn main(args: SweepArgs) -> Result<ExitCode> {
+    match args.command {
+        Some(SweepCommand::Merge(m)) => merge(m),
+        None => run(args.run),
+    }
+}
+
+fn run(args: RunSweepArgs) -> Result<ExitCode> {
+    let spec = args.spec()?;
+    let stop = stop_on_ctrl_c()?;
+    let bar = scenes_bar(args.quiet);
+    let par = Parallel::new(args.jobs, args.threads_per_scene);
+    let r = sweep::run_sweep(&args.out, spec, args.force, args.shard, par, &stop, &bar)?;
+    bar.finish_and_clear();
+    if !args.no_charts {
+        write_charts(&args.out, &r.spec, &r.rows)?;
+    }
+    let count = |c: Class| r.rows.iter().filter(|row| row.class == c).count();
+    let summary = SweepReport {
+        out: &args.out,
+        points: r.rows.len(),
+        ran: r.ran,
+        already: r.already,
+        remaining: r.remaining,
+        interrupted: r.interrupted,
+        ok: count(Class::Ok),
+        inaccurate: count(Class::Inaccurate),
+        over_compressed: count(Class::OverCompressed),
+        failed: count(Class::Failed),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        println!(
+            "{} points in {}: ran {} now, {} were done before, {} to go",
+            r.ran + r.already + r.remaining,
+            args.out.display(),
+            r.ran,
+            r.already,
+            r.remaining
+        );
+        println!(
+            "rows: {} ok, {} inaccurate, {} over-compressed, {} failed (results.csv, results.jsonl)",
+            summary.ok, summary.inaccurate, summary.over_compressed, summary.failed
+        );
+    }
+    if r.interrupted {
+        eprintln!(
+            "interrupted: {} finished rows kept; run the same command again to resume",
+            r.rows.len()
+        );
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn merge(args: MergeArgs) -> Result<ExitCode> {
+    let (spec, rows) = store::merge(&args.dirs, &args.out, args.force)?;
+    if !args.no_charts {
+        write_charts(&args.out, &spec, &rows)?;
+    }
+    let total = spec.points().len();
+    println!(
+        "merged {} folders into {}: {} of {} points finished",
+        args.dirs.len(),
+        args.out.display(),
+        rows.len(),
+        total
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Speed against accuracy (by wall time and by particle-steps), and a
+/// stability map per kernel with more than one c0 (at the grid's first N and
+/// alpha), each with the CSV behind it.
+pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
+    let pts = charts::speed_points(rows);
+    if !pts.is_empty() {
+        write_atomic(
+            &dir.join("speed_accuracy.csv"),
+            charts::speed_csv(&pts).as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join("speed_accuracy.svg"),
+            charts::speed_svg(&pts, charts::Cost::WallTime)?.as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join("speed_accuracy_work.svg"),
+            charts::speed_svg(&pts, charts::Cost::ParticleSteps)?.as_bytes(),
+        )?;
+    }
+    let (Some(&n), Some(&alpha)) = (spec.n.first(), spec.alpha.first()) else {
+        return Ok(());
+    };
+    for (kernel, krows) in charts::by_kernel(rows) {
+        let here: Vec<&Row> = krows
+            .into_iter()
+            .filter(|r| {
+                r.n == n && r.alpha == alpha && r.c0_over_u.is_finite() && r.c0_over_u > 0.0
+            })
+            .collect();
+        let mut c0s: Vec<f64> = here.iter().map(|r| r.c0_over_u).collect();
+        c0s.sort_by(f64::total_cmp);
+        c0s.dedup();
+        if c0s.len() < 2 {
+            continue;
+        }
+        let cells = report::map_cells(&here);
+        let res: Vec<f64> = here.iter().map(|r| r.re).collect();
+        let lines = report::rule_lines(&kernel, &spec.scene, n, alpha, &res)?;
+        let title = format!("{kernel}: outcome over c0 / U and Re (N = {n}, alpha = {alpha})");
+        write_atomic(
+            &dir.join(format!("stability_{kernel}.csv")),
+            charts::map_csv(&kernel, &cells).as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join(format!("stability_{kernel}_lines.csv")),
+            charts::map_lines_csv(&kernel, &lines).as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join(format!("stability_{kernel}.svg")),
+            charts::map_svg(&title, &cells, &lines, &[])?.as_bytes(),
+        )?;
+    }
+    Ok(())
+}

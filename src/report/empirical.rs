@@ -1,0 +1,321 @@
+//! The empirical c0: for a kernel and a scene, the smallest c0 from which
+//! the runs are `ok`, found with the solver in the loop. The stability map's
+//! row at that Re gives the bracket: of the block of consecutive ok values
+//! that ends at the largest ok c0 on the grid, its lowest value, and the grid
+//! value below it (which was not ok). Bisection on log c0 then narrows it to
+//! `rel_tol`. Ok values further down, cut off from that block by runs that
+//! were not ok, are isolated and listed apart: a c0 is no safe choice when a
+//! larger one fails. (Ok-ness is not monotone in c0: too small a c0
+//! over-compresses, too large a one adds artificial viscosity alpha c0 h,
+//! which makes high-Re runs inaccurate.)
+//!
+//! When no c0 of the map ran ok (a kernel whose runs are inaccurate at every
+//! c0), the criterion falls back to `stable` (ok or inaccurate: neither
+//! failed nor over-compressed), and says so.
+
+use std::fmt::Write as _;
+use std::sync::atomic::AtomicBool;
+
+use anyhow::Result;
+use indicatif::ProgressBar;
+use serde::Serialize;
+
+use super::Config;
+use crate::kernel::KernelInfo;
+use crate::sweep::store::csv_field;
+use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
+
+/// The result for one kernel at one Re.
+#[derive(Debug, Clone, Serialize)]
+pub struct Empirical {
+    pub kernel: String,
+    pub n: u32,
+    pub re: f64,
+    pub alpha: f64,
+    /// `ok`, or `stable` when no c0 tried ran ok.
+    pub criterion: &'static str,
+    /// The smallest c0 / U seen to meet the criterion (None: none did).
+    pub c0_over_u: Option<f64>,
+    /// The largest c0 / U below it seen not to meet it, and how that run
+    /// ended (None: the answer is at or below the smallest c0 tried).
+    pub below: Option<f64>,
+    pub below_class: Option<Class>,
+    pub below_reason: Option<String>,
+    pub rel_tol: f64,
+    /// The c0 / U range that was tried.
+    pub tried_min: f64,
+    pub tried_max: f64,
+    /// The run at the answer.
+    pub at: Option<Row>,
+    /// Grid values below the block that also met the criterion (isolated).
+    pub isolated_below: Vec<f64>,
+    /// The bisection's own runs (the map's are in the map).
+    #[serde(skip)]
+    pub runs: Vec<Row>,
+}
+
+impl Empirical {
+    /// Plain words for the table and the verdicts.
+    pub fn describe(&self) -> String {
+        let crit = if self.criterion == "ok" {
+            "ran ok".to_string()
+        } else {
+            "ran without failing or over-compressing (none ran ok)".to_string()
+        };
+        let main = match (self.c0_over_u, self.below) {
+            (None, _) => format!(
+                "no c0 from {} U to {} U ran ok, or even without failing or over-compressing",
+                fmt(self.tried_min),
+                fmt(self.tried_max)
+            ),
+            (Some(c), Some(b)) => format!(
+                "the smallest c0 that {crit} is {} U (it lies between {} U and {} U, bisection to {} %)",
+                fmt(c),
+                fmt(b),
+                fmt(c),
+                fmt(100.0 * self.rel_tol)
+            ),
+            (Some(c), None) => format!("every c0 tried down to {} U {crit}: the smallest is at most {} U", fmt(c), fmt(c)),
+        };
+        if self.isolated_below.is_empty() {
+            main
+        } else {
+            let iso: Vec<String> = self
+                .isolated_below
+                .iter()
+                .map(|v| format!("{} U", fmt(*v)))
+                .collect();
+            format!(
+                "{main}; below that, {} also {} but values between did not (isolated, not counted)",
+                iso.join(", "),
+                if self.criterion == "ok" {
+                    "ran ok"
+                } else {
+                    "ran stably"
+                }
+            )
+        }
+    }
+}
+
+fn fmt(v: f64) -> String {
+    crate::charts::fmt_num(v)
+}
+
+fn meets(criterion: &str, class: Class) -> bool {
+    match criterion {
+        "ok" => class == Class::Ok,
+        _ => matches!(class, Class::Ok | Class::Inaccurate),
+    }
+}
+
+/// One target: a kernel at one Re, with the map's rows there.
+struct Target<'a> {
+    info: &'static KernelInfo,
+    re: f64,
+    map: Vec<&'a Row>,
+}
+
+/// The empirical c0 for every kernel at every `config.empirical.re`, the
+/// targets in parallel. `None` when the stop flag cut it short.
+pub fn find_all(
+    config: &Config,
+    infos: &[&'static KernelInfo],
+    rows: &[Row],
+    par: Parallel,
+    stop: &AtomicBool,
+    bar: &ProgressBar,
+) -> Result<Option<Vec<Empirical>>> {
+    let mut targets = Vec::new();
+    for info in infos {
+        for &re in &config.empirical.re {
+            let mut map: Vec<&Row> = rows
+                .iter()
+                .filter(|r| {
+                    r.kernel == info.name
+                        && r.n == config.maps.n
+                        && r.alpha == config.maps.alpha
+                        && r.re == re
+                        && r.c0_spec.ends_with('U')
+                        && r.c0_over_u.is_finite()
+                })
+                .collect();
+            map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
+            targets.push(Target { info, re, map });
+        }
+    }
+    // Bisection steps are not known ahead: the bar grows as they start.
+    let results = par.map(
+        &targets,
+        stop,
+        |t| {
+            find_one(
+                config,
+                t,
+                stop,
+                &|| {
+                    bar.inc_length(1);
+                },
+                &|| bar.inc(1),
+            )
+        },
+        |_, _| {},
+    )?;
+    if results.iter().any(Option::is_none) {
+        return Ok(None);
+    }
+    Ok(Some(results.into_iter().flatten().collect()))
+}
+
+fn find_one(
+    config: &Config,
+    t: &Target,
+    stop: &AtomicBool,
+    started: &dyn Fn(),
+    finished: &dyn Fn(),
+) -> Option<Empirical> {
+    let e = &config.empirical;
+    let tried_min = t.map.first().map_or(f64::NAN, |r| r.c0_over_u);
+    let tried_max = t.map.last().map_or(f64::NAN, |r| r.c0_over_u);
+    let mut result = Empirical {
+        kernel: t.info.name.to_string(),
+        n: config.maps.n,
+        re: t.re,
+        alpha: config.maps.alpha,
+        criterion: "ok",
+        c0_over_u: None,
+        below: None,
+        below_class: None,
+        below_reason: None,
+        rel_tol: e.rel_tol,
+        tried_min,
+        tried_max,
+        at: None,
+        isolated_below: Vec::new(),
+        runs: Vec::new(),
+    };
+    let criterion = if t.map.iter().any(|r| meets("ok", r.class)) {
+        "ok"
+    } else if t.map.iter().any(|r| meets("stable", r.class)) {
+        "stable"
+    } else {
+        return Some(result);
+    };
+    result.criterion = criterion;
+    // The block of consecutive values meeting it that ends at the largest one.
+    let top = t
+        .map
+        .iter()
+        .rposition(|r| meets(criterion, r.class))
+        .expect("one meets it");
+    let mut k = top;
+    while k > 0 && meets(criterion, t.map[k - 1].class) {
+        k -= 1;
+    }
+    result.isolated_below = t.map[..k]
+        .iter()
+        .filter(|r| meets(criterion, r.class))
+        .map(|r| r.c0_over_u)
+        .collect();
+    let mut hi: Row = t.map[k].clone();
+    let mut lo: Option<Row> = k.checked_sub(1).map(|j| t.map[j].clone());
+
+    let mut counter = 0usize;
+    let mut run = |c0_over_u: f64| -> Option<Row> {
+        started();
+        let point = Point {
+            index: counter,
+            kernel: t.info.name.to_string(),
+            n: config.maps.n,
+            re: t.re,
+            alpha: config.maps.alpha,
+            c0: PointC0::OverU(c0_over_u),
+        };
+        counter += 1;
+        let row = run_point(&point, &config.scene, &config.classes, stop)?;
+        finished();
+        Some(row)
+    };
+    // Below the map's lowest value, when that one already met it.
+    if lo.is_none() {
+        for _ in 0..e.max_extend {
+            let row = run(hi.c0_over_u / 3.0)?;
+            result.runs.push(row.clone());
+            result.tried_min = result.tried_min.min(row.c0_over_u);
+            if meets(criterion, row.class) {
+                hi = row;
+            } else {
+                lo = Some(row);
+                break;
+            }
+        }
+    }
+    if let Some(mut below) = lo {
+        while hi.c0_over_u / below.c0_over_u > 1.0 + e.rel_tol {
+            let mid = (hi.c0_over_u * below.c0_over_u).sqrt();
+            let row = run(mid)?;
+            result.runs.push(row.clone());
+            if meets(criterion, row.class) {
+                hi = row;
+            } else {
+                below = row;
+            }
+        }
+        result.below = Some(below.c0_over_u);
+        result.below_class = Some(below.class);
+        result.below_reason = Some(reason(&below));
+    }
+    result.c0_over_u = Some(hi.c0_over_u);
+    result.at = Some(hi);
+    Some(result)
+}
+
+/// A row's class with its reason or figures, in a few words.
+pub fn reason(r: &Row) -> String {
+    match r.class {
+        Class::Failed => format!("failed: {}", r.failure_reason.clone().unwrap_or_default()),
+        Class::OverCompressed => format!(
+            "over-compressed: max eps {} above {}",
+            fmt(r.max_eps),
+            fmt(r.eps_bound)
+        ),
+        Class::Inaccurate => format!("inaccurate: L_inf {} % of U", fmt(100.0 * r.linf_max)),
+        Class::Ok => format!("ok: L_inf {} % of U", fmt(100.0 * r.linf_max)),
+    }
+}
+
+pub fn csv(list: &[Empirical]) -> String {
+    let mut out = String::from(
+        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below\n",
+    );
+    let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+    for e in list {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            csv_field(&e.kernel),
+            e.n,
+            e.re,
+            e.alpha,
+            e.criterion,
+            f(e.c0_over_u),
+            f(e.below),
+            e.below_class.map_or(String::new(), |c| c.to_string()),
+            csv_field(&e.below_reason.clone().unwrap_or_default()),
+            e.rel_tol,
+            e.tried_min,
+            e.tried_max,
+            f(e.at.as_ref().map(|r| r.linf_max)),
+            f(e.at.as_ref().map(|r| r.wall_s)),
+            e.runs.len(),
+            csv_field(
+                &e.isolated_below
+                    .iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            )
+        );
+    }
+    out
+}
