@@ -224,7 +224,9 @@ pub(crate) fn kick_drift(
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
 /// fluid.
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
-    let (x, y, nf) = (&s.x, &s.y, s.n_fluid);
+    // Slices of one known length: one bounds check per neighbour covers all.
+    let n = s.x.len();
+    let (x, y, nf) = (&s.x[..n], &s.y[..n], s.n_fluid);
     let w_self = K::w(0.0);
     (
         s.rho.par_chunks_mut(CHUNK),
@@ -320,8 +322,10 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
     half_dt: f64,
 ) -> Forces {
     let nf = s.n_fluid;
-    let (x, y, vpx, vpy) = (&s.x, &s.y, &s.vpx, &s.vpy);
-    let (rho, press, vol, p_rho2) = (&s.rho, &s.press, &s.vol, &s.p_rho2);
+    // Slices of one known length: one bounds check per neighbour covers all.
+    let n = s.x.len();
+    let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
+    let (rho, press, vol, p_rho2) = (&s.rho[..n], &s.press[..n], &s.vol[..n], &s.p_rho2[..n]);
     (
         s.ax.par_chunks_mut(CHUNK),
         s.ay.par_chunks_mut(CHUNK),
