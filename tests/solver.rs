@@ -39,27 +39,38 @@ fn worst_linf(r: &RunResult) -> f64 {
     r.samples.iter().map(|s| s.linf_rel_err).fold(0.0, f64::max)
 }
 
-/// Tolerance per kernel: twice what was measured (release build, the scene
-/// above; measured values in the comments). The composite kernel's gradient
-/// (22b) is not dW/dq, so its Laplacian (14) is off by some 10 % and its
-/// profile with it; Morris's quintic reaches three wall layers at u = 0
-/// where the parabola would continue negative, a slip of about 2 % U at
-/// N = 8. Any sign error in a force term gives errors of order 1 or a blow-up.
+/// Tolerances per kernel: twice what was measured (release build, the scene
+/// above), for the start from rest and from the steady profile. The
+/// composite kernel's gradient (22b) is not dW/dq, so its Laplacian (14) is
+/// off by some 10 % and its profile with it; Morris's quintic reaches three
+/// wall layers held at u = 0 where the parabola would continue negative, a
+/// slip of about 2 % U at N = 8 that halves as N doubles. Any sign error in
+/// a force term gives errors of order 1 or a blow-up.
+const MEASURED: &[(&str, f64, f64)] = &[
+    // measured 0.2076 (rest), 0.2276 (steady)
+    ("composite", 0.41, 0.45),
+    // measured 2.98e-3 (rest), 3.26e-3 (steady)
+    ("monaghan", 6.0e-3, 6.5e-3),
+    // measured 2.358e-2 (rest), 2.361e-2 (steady)
+    ("morris", 4.7e-2, 4.7e-2),
+];
+
+/// A kernel added since these were measured gets a sanity bound only (the
+/// profile is roughly right), and the test prints what to add here.
+const UNMEASURED: f64 = 0.5;
+
 fn tolerance(kernel: &str, initial: Initial) -> f64 {
-    match (kernel, initial) {
-        // measured 0.2076
-        ("composite", Initial::Rest) => 0.41,
-        // measured 0.2276
-        ("composite", Initial::Steady) => 0.45,
-        // measured 2.98e-3
-        ("monaghan", Initial::Rest) => 6.0e-3,
-        // measured 3.26e-3
-        ("monaghan", Initial::Steady) => 6.5e-3,
-        // measured 2.358e-2
-        ("morris", Initial::Rest) => 4.7e-2,
-        // measured 2.361e-2
-        ("morris", Initial::Steady) => 4.7e-2,
-        _ => panic!("no measured tolerance for kernel {kernel}: run this test, measure, add it"),
+    match MEASURED.iter().find(|m| m.0 == kernel) {
+        Some(&(_, rest, steady)) => match initial {
+            Initial::Rest => rest,
+            Initial::Steady => steady,
+        },
+        None => {
+            eprintln!(
+                "{kernel}: no measured tolerance yet; add twice the error printed here to MEASURED"
+            );
+            UNMEASURED
+        }
     }
 }
 
