@@ -219,7 +219,11 @@ fn lattice_density_is_the_kernels_eps_at_t0() {
         let first = &run(&s).samples[0];
         let want = info.eps.t0.value;
         for got in [first.max_eps, first.mean_eps] {
-            assert!((got - want).abs() < 1e-13, "{}: eps {got}, derived {want}", info.name);
+            assert!(
+                (got - want).abs() < 1e-13,
+                "{}: eps {got}, derived {want}",
+                info.name
+            );
         }
     }
 }
