@@ -29,8 +29,10 @@ pub struct NeighbourList {
     stride: usize,
     count: Vec<u32>,
     index: Vec<u32>,
-    /// Periodic image of the neighbour: x_j is taken as x_j - shift * width.
-    shift: Vec<i8>,
+    /// Periodic image of the neighbour, as the offset to add to x_i - x_j
+    /// (a multiple of the strip width; stored as f64 so the pair loops add
+    /// it without a conversion).
+    offset: Vec<f64>,
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
     /// sorted by bin, and where each bin starts.
     bin_start: Vec<u32>,
@@ -93,12 +95,12 @@ impl Displacements {
 }
 
 impl NeighbourList {
-    /// Neighbours of particle i (itself excluded) and their image shifts.
+    /// Neighbours of particle i (itself excluded) and their image offsets.
     #[inline]
-    pub fn of(&self, i: usize) -> (&[u32], &[i8]) {
+    pub fn of(&self, i: usize) -> (&[u32], &[f64]) {
         let start = i * self.stride;
         let end = start + self.count[i] as usize;
-        (&self.index[start..end], &self.shift[start..end])
+        (&self.index[start..end], &self.offset[start..end])
     }
 
     /// Total number of listed pairs (each counted from both sides).
@@ -154,15 +156,15 @@ impl NeighbourList {
         let mut stride = self.stride.max(1);
         loop {
             self.index.resize(n * stride, 0);
-            self.shift.resize(n * stride, 0);
+            self.offset.resize(n * stride, 0.0);
             let longest = self
                 .index
                 .par_chunks_mut(stride)
-                .zip(self.shift.par_chunks_mut(stride))
+                .zip(self.offset.par_chunks_mut(stride))
                 .zip(count.par_iter_mut())
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .map_init(Vec::new, |found, (i, ((index, shift), c))| {
+                .map_init(Vec::new, |found, (i, ((index, offset), c))| {
                     found.clear();
                     visit(i, &mut |j, s, r2| found.push((r2, j, s)));
                     *c = found.len() as u32;
@@ -175,7 +177,7 @@ impl NeighbourList {
                         found.sort_by_key(|e| e.0.to_bits());
                         for (k, &(_, j, s)) in found.iter().enumerate() {
                             index[k] = j;
-                            shift[k] = s;
+                            offset[k] = f64::from(s) * width;
                         }
                     }
                     found.len()
@@ -312,7 +314,11 @@ mod tests {
         list.build(&x, &y, l.width, cutoff, l.columns as usize);
         for i in 0..x.len() {
             let (idx, sh) = list.of(i);
-            let mut got: Vec<(u32, i8)> = idx.iter().copied().zip(sh.iter().copied()).collect();
+            let mut got: Vec<(u32, i8)> = idx
+                .iter()
+                .zip(sh)
+                .map(|(&j, &off)| (j, (off / l.width).round() as i8))
+                .collect();
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
         }

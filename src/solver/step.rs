@@ -110,7 +110,6 @@ impl SplitMix64 {
 /// Everything the pair loops need, with the h powers folded in once.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Params {
-    pub width: f64,
     pub inv_h2: f64,
     /// m / h^2: rho = (m / h^2) sum w(q^2).
     pub mass_over_h2: f64,
@@ -135,7 +134,6 @@ impl Params {
     pub fn new(problem: &Problem) -> Self {
         let h = problem.lattice.h;
         Params {
-            width: problem.lattice.width,
             inv_h2: 1.0 / (h * h),
             mass_over_h2: problem.mass / (h * h),
             mass: problem.mass,
@@ -241,11 +239,11 @@ pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Para
             for k in 0..rho.len() {
                 let i = c * CHUNK + k;
                 let (xi, yi) = (x[i], y[i]);
-                let (index, shift) = list.of(i);
+                let (index, offset) = list.of(i);
                 let mut sum = w_self;
-                for (&j, &sh) in index.iter().zip(shift) {
+                for (&j, &off) in index.iter().zip(offset) {
                     let j = j as usize;
-                    let dx = xi - x[j] + f64::from(sh) * prm.width;
+                    let dx = xi - x[j] + off;
                     let dy = yi - y[j];
                     let q2 = (dx * dx + dy * dy) * prm.inv_h2;
                     if q2 <= K::SUPPORT2_CLOSED {
@@ -343,10 +341,10 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
                 let (mut px, mut py) = (0.0, 0.0);
                 let (mut avx, mut avy) = (0.0, 0.0);
                 let (mut lx, mut ly) = (0.0, 0.0);
-                let (index, shift) = list.of(i);
-                for (&j, &sh) in index.iter().zip(shift) {
+                let (index, offset) = list.of(i);
+                for (&j, &off) in index.iter().zip(offset) {
                     let j = j as usize;
-                    let dx = xi - x[j] + f64::from(sh) * prm.width;
+                    let dx = xi - x[j] + off;
                     let dy = yi - y[j];
                     let r2 = dx * dx + dy * dy;
                     let q2 = r2 * prm.inv_h2;
