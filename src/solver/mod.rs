@@ -195,6 +195,20 @@ impl DtStats {
             DtLimit::Force => self.force_steps += 1,
         }
     }
+
+    /// The limit that bound the most steps.
+    pub fn dominant(&self) -> DtLimit {
+        let counts = [
+            (self.cfl_steps, DtLimit::Cfl),
+            (self.viscous_steps, DtLimit::Viscous),
+            (self.force_steps, DtLimit::Force),
+        ];
+        counts
+            .iter()
+            .max_by_key(|c| c.0)
+            .map(|c| c.1)
+            .unwrap_or(self.last_limit)
+    }
 }
 
 /// Everything a run produced.
