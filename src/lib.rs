@@ -8,7 +8,11 @@ pub mod kernel;
 /// [`kernel::Kernel`], and the registry (`KERNELS`, `NAMES`, `kernel_info`,
 /// `with_kernel`). `include!` keeps rustfmt out of `generated/`, whose
 /// formatting is prettyplease's.
-#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+#[allow(
+    clippy::approx_constant,
+    clippy::excessive_precision,
+    clippy::unreadable_literal
+)]
 pub mod kernels {
     include!("../generated/registry.rs");
 }

@@ -3,11 +3,11 @@
 //! included; eps(t, n) against the high-precision curve; the registry lists
 //! every kernels/*.toml.
 
-use shearsph_codegen::rug::{Float, Rational};
 use shearsph::kernel::{Kernel, KernelVisitor};
 use shearsph::kernels::{kernel_info, with_kernel, KERNELS, NAMES};
 use shearsph_codegen::compaction::{EpsCurve, FloatRadial, Site};
 use shearsph_codegen::kernel::{load_dir, KernelDef};
+use shearsph_codegen::rug::{Float, Rational};
 use std::path::Path;
 
 type Fns = [(&'static str, fn(f64) -> f64); 3];
@@ -45,11 +45,16 @@ fn emitted_functions_match_the_exact_kernel() {
         // q = j/(8 * 97) R for j = 1..=776: many points in every piece, the joints
         // (multiples of 1/8 of an integer support hit them exactly) and R itself
         let steps = 8 * 97;
-        let mut qs: Vec<Rational> = (1..=steps).map(|j| Rational::from((j, steps)) * &r).collect();
+        let mut qs: Vec<Rational> = (1..=steps)
+            .map(|j| Rational::from((j, steps)) * &r)
+            .collect();
         for p in &def.w.pieces {
             qs.push(p.to.clone());
         }
-        let (w, dw) = (FloatRadial::new(&def.w, 200), FloatRadial::new(&def.dw, 200));
+        let (w, dw) = (
+            FloatRadial::new(&def.w, 200),
+            FloatRadial::new(&def.dw, 200),
+        );
         for (which, f) in fns {
             for q in &qs {
                 let q2 = Rational::from(q * q).to_f64();
@@ -58,7 +63,11 @@ fn emitted_functions_match_the_exact_kernel() {
                 // at a zero of the kernel (q = R) the 200-bit reference is 0 to
                 // within its own rounding (~1e-57 here)
                 if want.clone().abs() < 1e-40 {
-                    assert!(got.abs() < 1e-40, "{} {which}({q}) = {got}, exact 0", def.name);
+                    assert!(
+                        got.abs() < 1e-40,
+                        "{} {which}({q}) = {got}, exact 0",
+                        def.name
+                    );
                     continue;
                 }
                 let rel = ((Float::with_val(200, got) - &want) / &want).to_f64().abs();
@@ -84,7 +93,10 @@ fn emitted_eps_curve_matches_the_high_precision_one() {
         let fr = FloatRadial::new(&def.w, 128);
         // interior particles, and particles near walls at N = 6
         for (n, walls) in [(0, None), (1, None), (3, None), (2, Some(6)), (5, Some(6))] {
-            let site = Site { n: n as i64, n_layers: walls.map(|w: u32| w as i64) };
+            let site = Site {
+                n: n as i64,
+                n_layers: walls.map(|w: u32| w as i64),
+            };
             let curve = EpsCurve::new(&fr, &def.support, site);
             for j in 0..=200 {
                 let t = j as f64 / 200.0;
@@ -110,6 +122,9 @@ fn registry_lists_every_definition() {
     assert_eq!(KERNELS.len(), names.len());
     for info in KERNELS {
         assert!(info.c0_model(info.c0_default).is_some());
-        assert!(info.stencil_t0.iter().any(|p| p.r2 == 0.0), "self is in the stencil");
+        assert!(
+            info.stencil_t0.iter().any(|p| p.r2 == 0.0),
+            "self is in the stencil"
+        );
     }
 }
