@@ -89,6 +89,53 @@ fn log_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     }
 }
 
+/// A legend entry's mark.
+#[derive(Debug, Clone, Copy)]
+enum Mark {
+    Square(RGBColor),
+    Line(RGBColor, u32),
+    Dot(RGBColor),
+    Ring(RGBColor),
+    Triangle(RGBColor),
+    Cross(RGBColor),
+    /// A heading: no mark.
+    Heading,
+}
+
+/// A legend in its own column beside the plot, so it never covers data.
+fn draw_legend(area: &DrawingArea<SVGBackend, Shift>, entries: &[(Mark, String)]) -> Result<()> {
+    let font = ("sans-serif", 12).into_font();
+    let bold = ("sans-serif", 12).into_font().style(FontStyle::Bold);
+    let x = 8;
+    for (k, (mark, text)) in entries.iter().enumerate() {
+        let y = 40 + 19 * k as i32;
+        let (cx, cy) = (x + 8, y);
+        match *mark {
+            Mark::Square(c) => area.draw(&Rectangle::new(
+                [(x + 2, cy - 6), (x + 14, cy + 6)],
+                c.filled(),
+            )),
+            Mark::Line(c, w) => area.draw(&PathElement::new(
+                vec![(x, cy), (x + 18, cy)],
+                c.stroke_width(w),
+            )),
+            Mark::Dot(c) => area.draw(&Circle::new((cx, cy), 4, c.filled())),
+            Mark::Ring(c) => area.draw(&Circle::new((cx, cy), 6, c.stroke_width(1))),
+            Mark::Triangle(c) => area.draw(&TriangleMarker::new((cx, cy), 5, c.filled())),
+            Mark::Cross(c) => area.draw(&Cross::new((cx, cy), 4, c.stroke_width(2))),
+            Mark::Heading => Ok(()),
+        }
+        .map_err(chart_err)?;
+        let (tx, f) = match mark {
+            Mark::Heading => (x, bold.clone()),
+            _ => (x + 26, font.clone()),
+        };
+        area.draw(&Text::new(text.clone(), (tx, cy - 7), f))
+            .map_err(chart_err)?;
+    }
+    Ok(())
+}
+
 // ---------------------------------------------------------------- Pareto
 
 /// For points (cost, error), both to be small: `true` for the points no other
@@ -248,15 +295,35 @@ pub fn speed_svg(points: &[SpeedPoint], cost: Cost) -> Result<String> {
     let (ylo, yhi) = log_range(points.iter().map(|p| p.linf), 1.6);
     let mut svg = String::new();
     {
-        let width = 620 * panels as u32;
-        let root = SVGBackend::with_string(&mut svg, (width, 600)).into_drawing_area();
+        let plots = 600 * panels as u32;
+        let root = SVGBackend::with_string(&mut svg, (plots + 250, 600)).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
-        let areas = root.split_evenly((1, panels));
+        let (left, legend) = root.split_horizontally(plots);
+        let areas = left.split_evenly((1, panels));
         for (k, area) in areas.iter().enumerate() {
             let re = res.get(k).copied().unwrap_or(f64::NAN);
             let here: Vec<&SpeedPoint> = points.iter().filter(|p| p.re == re).collect();
             speed_panel(area, &here, &series, cost, re, (xlo, xhi), (ylo, yhi))?;
         }
+        let grey = RGBColor(90, 90, 90);
+        let mut entries: Vec<(Mark, String)> = vec![(Mark::Heading, "kernel, c0 rule".into())];
+        entries.extend(
+            series
+                .iter()
+                .enumerate()
+                .map(|(k, name)| (Mark::Line(series_color(k), 3), name.clone())),
+        );
+        entries.extend([
+            (Mark::Heading, String::new()),
+            (Mark::Heading, "time-step limit that bound".into()),
+            (Mark::Dot(grey), "viscous".into()),
+            (Mark::Triangle(grey), "CFL".into()),
+            (Mark::Cross(grey), "force".into()),
+            (Mark::Heading, String::new()),
+            (Mark::Ring(BLACK), "Pareto front (per Re)".into()),
+            (Mark::Heading, "labels: N (layers)".into()),
+        ]);
+        draw_legend(&legend, &entries)?;
         root.present().map_err(chart_err)?;
     }
     Ok(svg)
@@ -303,6 +370,27 @@ fn speed_panel(
         .draw()
         .map_err(chart_err)?;
 
+    // The Pareto front first, under the points.
+    let mut front: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| match cost {
+            Cost::WallTime => p.pareto_wall,
+            Cost::ParticleSteps => p.pareto_work,
+        })
+        .map(|p| (p.cost(cost), p.linf))
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart
+        .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(1)))
+        .map_err(chart_err)?;
+    chart
+        .draw_series(
+            front
+                .iter()
+                .map(|&at| Circle::new(at, 10, BLACK.stroke_width(1))),
+        )
+        .map_err(chart_err)?;
+
     for (si, name) in series.iter().enumerate() {
         let color = series_color(si);
         let mut mine: Vec<&&SpeedPoint> = points.iter().filter(|p| &p.series() == name).collect();
@@ -313,16 +401,10 @@ fn speed_panel(
         let line: Vec<(f64, f64)> = mine.iter().map(|p| (p.cost(cost), p.linf)).collect();
         chart
             .draw_series(LineSeries::new(line, color.stroke_width(1)))
-            .map_err(chart_err)?
-            .label(name.clone())
-            .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
+            .map_err(chart_err)?;
         for p in &mine {
             let at = (p.cost(cost), p.linf);
-            let label = Text::new(
-                format!("N={}", p.n),
-                (6, -12),
-                ("sans-serif", 11).into_font(),
-            );
+            let label = Text::new(format!("{}", p.n), (7, -14), ("sans-serif", 11).into_font());
             match p.dt_limit.as_str() {
                 "viscous" => chart
                     .draw_series(std::iter::once(
@@ -344,53 +426,6 @@ fn speed_panel(
             };
         }
     }
-    // The Pareto front.
-    let mut front: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|p| match cost {
-            Cost::WallTime => p.pareto_wall,
-            Cost::ParticleSteps => p.pareto_work,
-        })
-        .map(|p| (p.cost(cost), p.linf))
-        .collect();
-    front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    chart
-        .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(1)))
-        .map_err(chart_err)?
-        .label("Pareto front (ringed)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1)));
-    chart
-        .draw_series(
-            front
-                .iter()
-                .map(|&at| Circle::new(at, 9, BLACK.stroke_width(1))),
-        )
-        .map_err(chart_err)?;
-    // Marker shapes.
-    let grey = RGBColor(90, 90, 90);
-    chart
-        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-        .map_err(chart_err)?
-        .label("circle: viscous dt limit bound")
-        .legend(move |(x, y)| Circle::new((x + 8, y), 4, grey.filled()));
-    chart
-        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-        .map_err(chart_err)?
-        .label("triangle: CFL limit bound")
-        .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 5, grey.filled()));
-    chart
-        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-        .map_err(chart_err)?
-        .label("cross: force limit bound")
-        .legend(move |(x, y)| Cross::new((x + 8, y), 4, grey.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font(("sans-serif", 11))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(chart_err)?;
     Ok(())
 }
 
@@ -466,24 +501,31 @@ pub fn map_svg(
     lines: &[MapLine],
     marks: &[MapMark],
 ) -> Result<String> {
-    let (xlo, xhi) = log_range(cells.iter().map(|c| c.c0_over_u), 1.8);
+    let (xlo, xhi) = log_range(
+        cells
+            .iter()
+            .map(|c| c.c0_over_u)
+            .chain(marks.iter().map(|m| m.2)),
+        1.8,
+    );
     let (ylo, yhi) = log_range(cells.iter().map(|c| c.re), 1.5);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (820, 560)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (1020, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
-        let mut chart = ChartBuilder::on(&root)
+        let (plot, legend) = root.split_horizontally(760);
+        let mut chart = ChartBuilder::on(&plot)
             .caption(title, ("sans-serif", 16))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(55)
-            .right_y_label_area_size(10)
             .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
             .map_err(chart_err)?;
         chart
             .configure_mesh()
             .x_desc("c0 / U")
             .y_desc("Re")
+            .light_line_style(RGBColor(245, 245, 245))
             .x_label_formatter(&|v| fmt_num(*v))
             .y_label_formatter(&|v| fmt_num(*v))
             .draw()
@@ -495,56 +537,52 @@ pub fn map_svg(
                     EmptyElement::at((c.c0_over_u, c.re))
                         + Rectangle::new([(-9, -9), (9, 9)], color.filled())
                 }))
-                .map_err(chart_err)?
-                .label(class.name())
-                .legend(move |(x, y)| {
-                    Rectangle::new([(x + 2, y - 5), (x + 12, y + 5)], color.filled())
-                });
+                .map_err(chart_err)?;
         }
+        let mut entries: Vec<(Mark, String)> = vec![(Mark::Heading, "outcome".into())];
+        entries.extend(
+            Class::ALL
+                .iter()
+                .map(|&c| (Mark::Square(class_color(c)), c.name().to_string())),
+        );
+        entries.push((Mark::Heading, String::new()));
+        entries.push((Mark::Heading, "c0 by rule".into()));
         let inside = |p: &(f64, f64)| p.0 >= xlo && p.0 <= xhi;
         for (k, line) in lines.iter().enumerate() {
             let color = series_color(k);
             if line.pieces.is_empty() {
-                chart
-                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(chart_err)?
-                    .label(format!("{}: no positive root", line.label))
-                    .legend(move |(x, y)| Cross::new((x + 8, y), 4, color.stroke_width(2)));
+                entries.push((
+                    Mark::Cross(color),
+                    format!("{}: no positive root", line.label),
+                ));
                 continue;
             }
-            for (i, piece) in line.pieces.iter().enumerate() {
+            entries.push((Mark::Line(color, 3), line.label.clone()));
+            for piece in &line.pieces {
                 let pts: Vec<(f64, f64)> = piece
                     .iter()
                     .map(|&(re, c)| (c, re))
                     .filter(inside)
                     .collect();
-                let s = chart
+                chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(3)))
                     .map_err(chart_err)?;
-                if i == 0 {
-                    s.label(line.label.clone()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
-                    });
-                }
             }
+        }
+        if !marks.is_empty() {
+            entries.push((Mark::Heading, String::new()));
+            entries.push((Mark::Ring(BLACK), "empirical c0 (smallest ok)".into()));
         }
         for (label, re, c) in marks {
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at((*c, *re))
-                        + Circle::new((0, 0), 6, BLACK.stroke_width(2))
-                        + Text::new(label.clone(), (8, 4), ("sans-serif", 12).into_font()),
+                        + Circle::new((0, 0), 7, BLACK.stroke_width(2))
+                        + Text::new(label.clone(), (9, 4), ("sans-serif", 12).into_font()),
                 ))
                 .map_err(chart_err)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 11))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
+        draw_legend(&legend, &entries)?;
         root.present().map_err(chart_err)?;
     }
     Ok(svg)
@@ -605,10 +643,11 @@ pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
     let mut svg = String::new();
     {
         let height = 340 * panels.len().max(1) as u32;
-        let root = SVGBackend::with_string(&mut svg, (1000, height)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (1100, height)).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
         let areas = root.split_evenly((panels.len().max(1), 1));
         for (panel, area) in panels.iter().zip(&areas) {
+            let (plot, legend) = area.split_horizontally(800);
             let all = panel
                 .curves
                 .iter()
@@ -620,7 +659,7 @@ pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
                 (a.min(v), b.max(v))
             });
             let pad = ((hi - lo) * 0.08).max(1e-9);
-            let mut chart = ChartBuilder::on(area)
+            let mut chart = ChartBuilder::on(&plot)
                 .caption(&panel.title, ("sans-serif", 16))
                 .margin(10)
                 .x_label_area_size(35)
@@ -634,6 +673,14 @@ pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
                 .y_label_formatter(&|v| format!("{v:.2e}"))
                 .draw()
                 .map_err(chart_err)?;
+            let grey = RGBColor(100, 100, 100);
+            chart
+                .draw_series(LineSeries::new(
+                    vec![(0.0, panel.mean), (1.0, panel.mean)],
+                    grey.stroke_width(1),
+                ))
+                .map_err(chart_err)?;
+            let mut entries: Vec<(Mark, String)> = Vec::new();
             for (k, c) in panel.curves.iter().enumerate() {
                 let color = series_color(k);
                 chart
@@ -641,11 +688,7 @@ pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
                         c.t.iter().copied().zip(c.model.iter().copied()),
                         color.stroke_width(2),
                     ))
-                    .map_err(chart_err)?
-                    .label(format!("{} (eps_at)", c.label))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
-                    });
+                    .map_err(chart_err)?;
                 // Every few samples, so the line stays visible under the dots.
                 let step = (c.t.len() / 60).max(1);
                 chart
@@ -653,31 +696,18 @@ pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
                         c.t.iter()
                             .zip(&c.measured)
                             .step_by(step)
-                            .map(|(&t, &e)| Circle::new((t, e), 3, color.mix(0.9).stroke_width(1))),
+                            .map(|(&t, &e)| Circle::new((t, e), 3, color.stroke_width(1))),
                     )
-                    .map_err(chart_err)?
-                    .label(format!("{} (solver density, ideal shear)", c.label))
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 3, color.stroke_width(1)));
+                    .map_err(chart_err)?;
+                entries.push((Mark::Heading, c.label.clone()));
+                entries.push((Mark::Line(color, 2), "eps_at (generated)".into()));
+                entries.push((Mark::Ring(color), "solver density, ideal shear".into()));
             }
-            let grey = RGBColor(100, 100, 100);
-            chart
-                .draw_series(LineSeries::new(
-                    vec![(0.0, panel.mean), (1.0, panel.mean)],
-                    grey.stroke_width(1),
-                ))
-                .map_err(chart_err)?
-                .label(format!("mean eps = {:.6e} (n = 0)", panel.mean))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 16, y)], grey.stroke_width(1))
-                });
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 11))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(chart_err)?;
+            entries.push((
+                Mark::Line(grey, 1),
+                format!("mean eps {:.4e} (n = 0)", panel.mean),
+            ));
+            draw_legend(&legend, &entries)?;
         }
         root.present().map_err(chart_err)?;
     }

@@ -257,7 +257,16 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
     let stop = stop_on_ctrl_c()?;
     let bar = scenes_bar(args.quiet);
     let par = Parallel::new(args.jobs, args.threads_per_scene);
-    let r = sweep::run_sweep(&args.out, spec, args.force, args.shard, par, &stop, &bar)?;
+    let r = sweep::run_sweep(
+        &args.out,
+        spec,
+        args.force,
+        args.shard,
+        par,
+        &stop,
+        &bar,
+        &|_| {},
+    )?;
     bar.finish_and_clear();
     if !args.no_charts {
         write_charts(&args.out, &r.spec, &r.rows)?;

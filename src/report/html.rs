@@ -80,7 +80,7 @@ fn figures_html(figures: &[Figure], id: &str) -> String {
 }
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1280px;margin:1em auto;padding:0 1em;color:#222;line-height:1.4}
-table{border-collapse:collapse;margin:0.5em 0 1.2em}td,th{border:1px solid #ccc;padding:2px 7px;text-align:right;font-size:0.9em}
+table{border-collapse:collapse;margin:0.5em 0 1.2em}td,th{border:1px solid #ccc;padding:2px 7px;text-align:right;font-size:0.9em;white-space:nowrap}td.wrap{white-space:normal}
 th{background:#f2f2f2}td.l,th.l{text-align:left}.diff{color:#b00;font-weight:bold}.same{color:#070}
 .cls{color:white;padding:0 5px;border-radius:3px;white-space:nowrap}.svg svg{max-width:100%;height:auto}
 figure{margin:1em 0}figcaption{font-size:0.85em;color:#555}.verdict{border-left:4px solid #888;padding:0.2em 0.8em;margin:0.6em 0;background:#fafafa}
@@ -125,12 +125,20 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         for a in &v.at_re {
             let _ = writeln!(
                 h,
-                "<p><b>Re = {}</b> (N = {}, alpha = {}): {}</p>",
+                "<p><b>Re = {}</b> (N = {}, alpha = {}):</p><ul>",
                 num(a.re),
                 a.n,
-                a.alpha,
-                esc(&a.sentences.join(" "))
+                a.alpha
             );
+            let last = a.sentences.len().saturating_sub(1);
+            for (k, sentence) in a.sentences.iter().enumerate() {
+                if k == last {
+                    let _ = writeln!(h, "<li><b>{}</b></li>", esc(sentence));
+                } else {
+                    let _ = writeln!(h, "<li>{}</li>", esc(sentence));
+                }
+            }
+            h.push_str("</ul>\n");
         }
         h.push_str("</div>\n");
     }
@@ -158,7 +166,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
             }
             let _ = writeln!(
                 h,
-                "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td class=\"l\"><code>{}</code>{}</td></tr>",
+                "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td class=\"l wrap\"><code>{}</code>{}</td></tr>",
                 esc(k),
                 quantity,
                 sci(*ours),
@@ -323,7 +331,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         "<p>The smallest c0 at which the run is ok: bisection on log c0 (solver in the loop) between the map's smallest ok value and the value below it, to {} % relative. If no c0 on the map ran ok, the criterion is \"stable\" (neither failed nor over-compressed), and says so.</p>",
         num(100.0 * c.empirical.rel_tol)
     );
-    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">criterion</th><th>empirical c0 / U</th><th>below it</th><th class=\"l\">run below</th><th>derived c0 / U (default)</th><th>Table 2 c0 / U</th><th>rule c0 / U</th><th>bisection runs</th></tr>\n");
+    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">criterion</th><th>empirical c0 / U</th><th>below it</th><th class=\"l\">run below</th><th>derived c0 / U (default)</th><th>Table 2 c0 / U</th><th>rule c0 / U</th><th>bisection runs</th><th class=\"l\">isolated ok values below (not counted)</th></tr>\n");
     for e in &d.empirical {
         let rule_c0 = |rule: &str| {
             d.c0_compare
@@ -338,7 +346,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         let derived = rule_c0("default");
         let _ = writeln!(
             h,
-            "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td><b>{}</b></td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td></tr>",
+            "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td><b>{}</b></td><td>{}</td><td class=\"l wrap\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td><td class=\"l\">{}</td></tr>",
             esc(&e.kernel),
             num(e.re),
             e.criterion,
@@ -351,7 +359,12 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
                 None => "–".into(),
             },
             rule_c0("table2").map_or("–".into(), num),
-            e.runs.len()
+            e.runs.len(),
+            if e.isolated_below.is_empty() {
+                "–".to_string()
+            } else {
+                e.isolated_below.iter().map(|v| format!("{} U", num(*v))).collect::<Vec<_>>().join(", ")
+            }
         );
     }
     h.push_str("</table>\n<p>Data: <a href=\"empirical_c0.csv\">empirical_c0.csv</a>, the bisection's runs <a href=\"empirical_c0_runs.csv\">empirical_c0_runs.csv</a>.</p>\n");

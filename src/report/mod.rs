@@ -343,8 +343,8 @@ pub fn figure4(
         panels.push(EpsPanel {
             kernel: info.name.to_string(),
             title: format!(
-                "{} (R = {}): eps over one period T = d N^2 / U, N = {n_layers}",
-                info.title, info.support_exact
+                "{}: eps over one period T = d N^2 / U, N = {n_layers}",
+                info.title
             ),
             mean: info.eps.mean.value,
             curves,

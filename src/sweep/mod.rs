@@ -831,7 +831,8 @@ pub struct SweepRun {
 
 /// Run (or resume) the sweep in `dir`: see [`store::open`] for `spec` and
 /// `force`. Only the points of `shard` run; finished points are skipped.
-/// `bar` counts the points of this run.
+/// `bar` counts the points of this run; `watch` sees each row once it is
+/// stored.
 #[allow(clippy::too_many_arguments)]
 pub fn run_sweep(
     dir: &Path,
@@ -841,6 +842,7 @@ pub fn run_sweep(
     par: Parallel,
     stop: &AtomicBool,
     bar: &ProgressBar,
+    watch: &(dyn Fn(&Row) + Sync),
 ) -> Result<SweepRun> {
     let (spec, done) = store::open(dir, spec, force)?;
     let done_ids: BTreeSet<String> = done.iter().map(|r| r.id.clone()).collect();
@@ -865,6 +867,7 @@ pub fn run_sweep(
             c[0], c[1], c[2], c[3]
         ));
         bar.inc(1);
+        watch(row);
     };
     let (new_rows, interrupted) =
         run_points(&todo, &spec.scene, &spec.classes, par, stop, &on_row)?;

@@ -1,0 +1,419 @@
+//! `shearsph report --quick`: the page references every figure and table it
+//! promises, and each chart is checked by the CSV behind it (Figure 4
+//! against the generated eps_at, one map row per grid point, Pareto flags,
+//! the tables against the generated KernelInfo).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::OnceLock;
+
+use shearsph::charts::pareto_flags;
+use shearsph::kernels::{self, KERNELS};
+use shearsph::report::Config;
+use shearsph::sweep::Class;
+
+/// The quick report, made once for every test here.
+fn report_dir() -> PathBuf {
+    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+            .args(["report", "--quick", "--out"])
+            .arg(tmp.path().join("r"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        tmp
+    })
+    .path()
+    .join("r")
+}
+
+/// A CSV file as maps from column name to value (fields here hold no
+/// quoted commas but the `reason` and `id` ones, which are not read).
+fn csv(name: &str) -> Vec<BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(report_dir().join(name)).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    lines
+        .map(|l| {
+            let cells = split_csv(l);
+            assert_eq!(cells.len(), header.len(), "{name}: {l}");
+            header.iter().cloned().zip(cells).collect()
+        })
+        .collect()
+}
+
+fn split_csv(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(String::new()),
+            (c, _) => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+fn f(v: &str) -> f64 {
+    v.parse().unwrap_or_else(|_| panic!("not a number: {v:?}"))
+}
+
+#[test]
+fn index_references_every_figure_and_table() {
+    let dir = report_dir();
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let mut promised = vec![
+        "figure4.svg",
+        "figure4.csv",
+        "speed_accuracy.svg",
+        "speed_accuracy_work.svg",
+        "speed_accuracy.csv",
+        "table1.csv",
+        "table2.csv",
+        "c0_compare.csv",
+        "empirical_c0.csv",
+        "empirical_c0_runs.csv",
+        "runs.csv",
+        "verdicts.json",
+        "report.toml",
+    ]
+    .into_iter()
+    .map(str::to_string)
+    .collect::<Vec<_>>();
+    for k in KERNELS {
+        promised.push(format!("stability_{}.svg", k.name));
+        promised.push(format!("stability_{}.csv", k.name));
+    }
+    for file in &promised {
+        assert!(
+            html.contains(&format!("href=\"{file}\"")),
+            "index.html does not link {file}"
+        );
+        assert!(dir.join(file).is_file(), "{file} is missing");
+    }
+    // Every link points at a file that exists.
+    for part in html.split("href=\"").skip(1) {
+        let target = part.split('"').next().unwrap();
+        if !target.starts_with('#') {
+            assert!(dir.join(target).is_file(), "broken link {target}");
+        }
+    }
+    // Sections, and the figures inline: one <svg> per figure file.
+    for id in [
+        "verdicts",
+        "table1",
+        "table2",
+        "c0",
+        "figure4",
+        "speed",
+        "maps",
+        "empirical",
+        "method",
+        "files",
+    ] {
+        assert!(html.contains(&format!("id=\"{id}\"")), "no section {id}");
+    }
+    let svgs = promised.iter().filter(|f| f.ends_with(".svg")).count();
+    assert_eq!(html.matches("<svg").count(), svgs);
+    // Self-contained: no scripts, nothing from the network.
+    assert!(!html.contains("<script"));
+    assert!(!html.contains("src=\"http"));
+    // A verdict per kernel, named.
+    for k in KERNELS {
+        assert!(
+            html.contains(&format!("<h3>{}</h3>", k.name)),
+            "no verdict for {}",
+            k.name
+        );
+    }
+}
+
+#[test]
+fn figure4_csv_is_the_generated_eps_at_and_the_solver_agrees() {
+    let rows = csv("figure4.csv");
+    let mut curves = BTreeSet::new();
+    for r in &rows {
+        let info = kernels::kernel_info(&r["kernel"]).unwrap();
+        let (n, big_n, t) = (
+            r["n"].parse::<u32>().unwrap(),
+            r["n_layers"].parse::<u32>().unwrap(),
+            f(&r["t_over_T"]),
+        );
+        let model = f(&r["eps_model"]);
+        assert_eq!(model, (info.eps_at)(t, n, Some(big_n)), "{r:?}");
+        // The solver's density summation under ideal shear: the same sum in
+        // another order.
+        assert!((f(&r["eps_solver"]) - model).abs() < 1e-12, "{r:?}");
+        assert_eq!(f(&r["eps_mean"]), info.eps.mean.value);
+        curves.insert((r["kernel"].clone(), n));
+    }
+    // Layers 0, N - R and N - 1 of every kernel.
+    let big_n = Config::quick().figure4.n;
+    for k in KERNELS {
+        let r = k.support.ceil() as u32;
+        for n in [0, big_n - r, big_n - 1] {
+            assert!(
+                curves.contains(&(k.name.to_string(), n)),
+                "{} n = {n}",
+                k.name
+            );
+        }
+    }
+}
+
+#[test]
+fn each_stability_map_has_one_valid_row_per_grid_point() {
+    let maps = Config::quick().maps;
+    for k in KERNELS {
+        let rows = csv(&format!("stability_{}.csv", k.name));
+        let mut seen = BTreeSet::new();
+        for r in &rows {
+            assert!(Class::parse(&r["class"]).is_some(), "{r:?}");
+            assert!(
+                seen.insert((r["re"].clone(), r["c0_over_u"].clone())),
+                "duplicate {r:?}"
+            );
+            assert_eq!(r["kernel"], k.name);
+        }
+        assert_eq!(
+            rows.len(),
+            maps.re.len() * maps.c0_over_u.len(),
+            "{}",
+            k.name
+        );
+        for re in &maps.re {
+            for c in &maps.c0_over_u {
+                assert!(
+                    seen.contains(&(re.to_string(), c.to_string())),
+                    "{} Re {re} c0 {c}",
+                    k.name
+                );
+            }
+        }
+        // The lines behind the map: one per rule, every derived model with a
+        // positive value where the model's own formula gives one.
+        let lines = csv(&format!("stability_{}_lines.csv", k.name));
+        for m in k.c0_models {
+            let mine: Vec<_> = lines
+                .iter()
+                .filter(|l| l["line"].starts_with(&format!("derived:{}", m.name)))
+                .collect();
+            assert!(!mine.is_empty(), "no line for {}", m.name);
+            for l in mine.iter().filter(|l| !l["re"].is_empty()) {
+                assert!(f(&l["c0_over_u"]) > 0.0);
+            }
+        }
+    }
+}
+
+#[test]
+fn pareto_flags_are_right() {
+    // (cost, error): a beats b when no worse in both and better in one.
+    let pts = [
+        (1.0, 0.5),      // front: cheapest
+        (2.0, 0.1),      // front
+        (3.0, 0.1),      // beaten by (2, 0.1)
+        (2.5, 0.05),     // front
+        (10.0, 0.05),    // beaten by (2.5, 0.05)
+        (10.0, 0.01),    // front: most accurate
+        (1.0, 0.6),      // beaten by (1, 0.5)
+        (f64::NAN, 0.0), // never on it
+    ];
+    assert_eq!(
+        pareto_flags(&pts),
+        vec![true, true, false, true, false, true, false, false]
+    );
+    // Equal points do not beat each other.
+    assert_eq!(pareto_flags(&[(1.0, 1.0), (1.0, 1.0)]), vec![true, true]);
+
+    // The report's speed chart data carries flags that agree with its own
+    // points, per Re.
+    let rows = csv("speed_accuracy.csv");
+    assert!(!rows.is_empty());
+    let res: BTreeSet<String> = rows.iter().map(|r| r["re"].clone()).collect();
+    for re in res {
+        let here: Vec<_> = rows.iter().filter(|r| r["re"] == re).collect();
+        for (cost, flag) in [
+            ("wall_s", "pareto_wall"),
+            ("particle_steps", "pareto_particle_steps"),
+        ] {
+            let xy: Vec<(f64, f64)> = here
+                .iter()
+                .map(|r| (f(&r[cost]).max(1e-4), f(&r["linf_max"])))
+                .collect();
+            let want = pareto_flags(&xy);
+            let got: Vec<bool> = here.iter().map(|r| r[flag] == "true").collect();
+            assert_eq!(got, want, "Re {re}, {cost}");
+        }
+    }
+}
+
+#[test]
+fn tables_are_the_generated_values_beside_the_print() {
+    let t1 = csv("table1.csv");
+    for k in KERNELS {
+        let mine: Vec<_> = t1.iter().filter(|r| r["kernel"] == k.name).collect();
+        assert_eq!(mine.len(), 3);
+        let ours: Vec<f64> = mine.iter().map(|r| f(&r["ours"])).collect();
+        assert_eq!(
+            ours,
+            vec![k.eps.t0.value, k.eps.half_period.value, k.eps.mean.value]
+        );
+        if let Some(p) = k.printed_eps {
+            for (r, printed) in mine.iter().zip([p.t0, p.half_period, p.mean]) {
+                assert_eq!(r["printed"], printed);
+                // Agreement: ours rounded to the printed places is the print.
+                let places = printed.split('.').nth(1).map_or(0, str::len);
+                let rounded = format!("{:.*}", places, f(&r["ours"]));
+                let agrees = f(&rounded) == f(printed);
+                assert_eq!(
+                    r["agrees_at_printed_precision"],
+                    agrees.to_string(),
+                    "{r:?}"
+                );
+            }
+        }
+    }
+    let t2 = csv("table2.csv");
+    for k in KERNELS {
+        for m in k.c0_models {
+            let r = t2
+                .iter()
+                .find(|r| {
+                    r["kernel"] == k.name
+                        && r["source"] == "ours"
+                        && r["model"].trim_end_matches(" (default)") == m.name
+                })
+                .unwrap();
+            assert_eq!(f(&r["S"]), m.s.value);
+            assert_eq!(f(&r["P"]), m.p.value);
+            assert_eq!(f(&r["Q"]), m.q.value);
+            assert_eq!(
+                r["no_positive_root"],
+                (m.q.value <= 0.0 && m.s.value >= 0.0).to_string()
+            );
+        }
+        if let Some(p) = k.printed_c0 {
+            let r = t2
+                .iter()
+                .find(|r| r["kernel"] == k.name && r["source"] == "printed")
+                .unwrap();
+            assert_eq!(f(&r["S"]), p.factor * p.s);
+            assert_eq!(f(&r["Q"]), p.factor * p.factor * p.q);
+        }
+    }
+}
+
+#[test]
+fn verdicts_and_empirical_c0_follow_from_the_runs() {
+    let config = Config::quick();
+    let runs = csv("runs.csv");
+    let compare = csv("c0_compare.csv");
+    let verdicts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report_dir().join("verdicts.json")).unwrap())
+            .unwrap();
+    for k in KERNELS {
+        let v = verdicts
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| v["kernel"] == k.name)
+            .unwrap();
+        for a in v["at_re"].as_array().unwrap() {
+            let re = a["re"].as_f64().unwrap();
+            // The derived c0 is the default model's for the scene, or none.
+            let row = compare
+                .iter()
+                .find(|c| {
+                    c["kernel"] == k.name && f(&c["re"]) == re && c["default_model"] == "true"
+                })
+                .unwrap();
+            let c0 = f(&row["c0_over_u"]);
+            match a["derived_c0_over_u"].as_f64() {
+                Some(d) => assert_eq!(d, c0),
+                None => assert!(
+                    c0.is_nan() || c0 <= 0.0,
+                    "{} Re {re}: derived c0 {c0} not shown",
+                    k.name
+                ),
+            }
+            // Its class is the class of the run at that c0 ("derived").
+            if let Some(class) = a["derived_class"].as_str() {
+                let run = runs
+                    .iter()
+                    .find(|r| {
+                        r["kernel"] == k.name
+                            && f(&r["re"]) == re
+                            && r["n"] == config.maps.n.to_string()
+                            && r["c0_spec"] == "derived"
+                    })
+                    .unwrap();
+                assert_eq!(run["class"], class);
+            }
+        }
+    }
+    // The empirical c0 met its criterion, the value below it did not, and
+    // they are within the tolerance when bracketed.
+    let mut all = runs.clone();
+    all.extend(csv("empirical_c0_runs.csv"));
+    for e in csv("empirical_c0.csv") {
+        if e["c0_over_u"].is_empty() {
+            continue;
+        }
+        let class_at = |c0: f64| {
+            all.iter()
+                .find(|r| {
+                    r["kernel"] == e["kernel"]
+                        && r["re"] == e["re"]
+                        && r["n"] == e["n"]
+                        && r["c0_spec"].ends_with('U')
+                        && f(&r["c0_over_u"]) == c0
+                })
+                .map(|r| Class::parse(&r["class"]).unwrap())
+                .unwrap_or_else(|| panic!("no run at c0 = {c0} for {e:?}"))
+        };
+        let meets = |c: Class| match e["criterion"].as_str() {
+            "ok" => c == Class::Ok,
+            _ => matches!(c, Class::Ok | Class::Inaccurate),
+        };
+        let c0 = f(&e["c0_over_u"]);
+        assert!(meets(class_at(c0)), "{e:?}");
+        if !e["below_c0_over_u"].is_empty() {
+            let below = f(&e["below_c0_over_u"]);
+            assert!(!meets(class_at(below)), "{e:?}");
+            assert!(c0 / below <= 1.0 + f(&e["rel_tol"]) + 1e-12, "{e:?}");
+        }
+    }
+}
+
+#[test]
+fn an_existing_report_is_kept_without_force() {
+    let dir = report_dir();
+    let before = std::fs::read(dir.join("index.html")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["report", "--quick", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--force"));
+    assert_eq!(std::fs::read(dir.join("index.html")).unwrap(), before);
+}
