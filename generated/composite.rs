@@ -343,5 +343,5 @@ pub const INFO: KernelInfo = KernelInfo {
         half_period: "0.059568",
         mean: "0.029873",
     }),
-    flops_per_pair: 12u32,
+    flops_per_pair: 13u32,
 };

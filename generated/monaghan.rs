@@ -58,8 +58,10 @@ impl Kernel for Monaghan {
             1.02313891987647 * s + -0.34104630662549
         } else if q2 <= Self::SUPPORT2_CLOSED {
             let q = q2.sqrt();
-            let s = (q2 - 4.0) / (q + 2.0);
-            (-0.34104630662549 * s * s) / q
+            let qb = q + 2.0;
+            let t = 1.0 / (q * qb);
+            let s = (q2 - 4.0) * q * t;
+            (-0.34104630662549 * s * s) * qb * t
         } else {
             0.0
         }
@@ -490,5 +492,5 @@ pub const INFO: KernelInfo = KernelInfo {
         half_period: "0.001984",
         mean: "-0.001275",
     }),
-    flops_per_pair: 19u32,
+    flops_per_pair: 23u32,
 };

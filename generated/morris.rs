@@ -77,8 +77,10 @@ impl Kernel for Morris {
                 * s + 0.0932288369575956) * s + -0.0233072092393989) / q
         } else if q2 <= Self::SUPPORT2_CLOSED {
             let q = q2.sqrt();
-            let s = (q2 - 9.0) / (q + 3.0);
-            (-0.0233072092393989 * s * s * s * s) / q
+            let qb = q + 3.0;
+            let t = 1.0 / (q * qb);
+            let s = (q2 - 9.0) * q * t;
+            (-0.0233072092393989 * s * s * s * s) * qb * t
         } else {
             0.0
         }
@@ -691,5 +693,5 @@ pub const INFO: KernelInfo = KernelInfo {
         half_period: "0.000094",
         mean: "-0.000043",
     }),
-    flops_per_pair: 29u32,
+    flops_per_pair: 31u32,
 };

@@ -167,8 +167,24 @@ fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
                 plain(&div_q(&p.poly))
             } else {
                 let (h, f) = in_s(&p.poly);
-                let (sd, fs) = s_of_q(&p.poly, quote!(q));
-                (quote! { let q = q2.sqrt(); #sd (#h) / q }, f + fs + 2)
+                if vanishes_at_end(&p.poly) {
+                    // one division for both s = (q2 - b^2)/(q + b) and 1/q
+                    (
+                        quote! {
+                            let q = q2.sqrt();
+                            let qb = q + #bl;
+                            let t = 1.0 / (q * qb);
+                            let s = (q2 - #b2) * q * t;
+                            (#h) * qb * t
+                        },
+                        f + 9,
+                    )
+                } else {
+                    (
+                        quote! { let q = q2.sqrt(); let s = q - #bl; (#h) / q },
+                        f + 4,
+                    )
+                }
             }
         }
     }
