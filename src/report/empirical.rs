@@ -47,6 +47,10 @@ pub struct Empirical {
     pub tried_max: f64,
     /// The run at the answer.
     pub at: Option<Row>,
+    /// The largest c0 / U of the block of ok runs, and the first grid value
+    /// above it with its class (None: the block reaches the map's top).
+    pub top: Option<f64>,
+    pub above: Option<(f64, Class)>,
     /// Grid values below the block that also met the criterion (isolated).
     pub isolated_below: Vec<f64>,
     /// The bisection's own runs (the map's are in the map).
@@ -56,45 +60,73 @@ pub struct Empirical {
 
 impl Empirical {
     /// Plain words for the table and the verdicts.
+    /// Plain words: the answer, its bracket, how far up the ok runs reach,
+    /// and any isolated ok values below.
     pub fn describe(&self) -> String {
         let crit = if self.criterion == "ok" {
-            "ran ok".to_string()
+            "ran ok"
         } else {
-            "ran without failing or over-compressing (none ran ok)".to_string()
+            "ran without failing or over-compressing (none ran ok)"
         };
-        let main = match (self.c0_over_u, self.below) {
-            (None, _) => format!(
-                "no c0 from {} U to {} U ran ok, or even without failing or over-compressing",
-                fmt(self.tried_min),
-                fmt(self.tried_max)
-            ),
+        let mut t = match (self.c0_over_u, self.below) {
+            (None, _) => {
+                return format!(
+                    "no c0 from {} U to {} U ran ok, or even without failing or over-compressing",
+                    fmt(self.tried_min),
+                    fmt(self.tried_max)
+                )
+            }
             (Some(c), Some(b)) => format!(
-                "the smallest c0 that {crit} is {} U (it lies between {} U and {} U, bisection to {} %)",
+                "the smallest c0 that {crit} is {} U (bisection to {} %: at {} U the run was {})",
                 fmt(c),
+                fmt(100.0 * self.rel_tol),
                 fmt(b),
-                fmt(c),
-                fmt(100.0 * self.rel_tol)
+                self.below_reason.clone().unwrap_or_default()
             ),
-            (Some(c), None) => format!("every c0 tried down to {} U {crit}: the smallest is at most {} U", fmt(c), fmt(c)),
+            (Some(c), None) => format!("every c0 tried down to {} U {crit}", fmt(c)),
         };
-        if self.isolated_below.is_empty() {
-            main
-        } else {
+        if let Some(at) = &self.at {
+            t.push_str(&format!(
+                "; at {} U: {}, {} s",
+                fmt(at.c0_over_u),
+                reason(at),
+                fmt(at.wall_s)
+            ));
+        }
+        match &self.above {
+            Some((c, class)) => t.push_str(&format!(
+                "; runs {} up to {} U, and at {} U the run was {class}",
+                if self.criterion == "ok" {
+                    "stayed ok"
+                } else {
+                    "stayed stable"
+                },
+                fmt(self.top.unwrap_or(f64::NAN)),
+                fmt(*c)
+            )),
+            None => t.push_str(&format!(
+                "; every c0 above it on the map {} too, up to {} U",
+                if self.criterion == "ok" {
+                    "ran ok"
+                } else {
+                    "ran stably"
+                },
+                fmt(self.tried_max)
+            )),
+        }
+        if !self.isolated_below.is_empty() {
             let iso: Vec<String> = self
                 .isolated_below
                 .iter()
                 .map(|v| format!("{} U", fmt(*v)))
                 .collect();
-            format!(
-                "{main}; below that, {} also {} but values between did not (isolated, not counted)",
+            t.push_str(&format!(
+                "; below the bracket, {} also {} while values between did not (isolated, not counted)",
                 iso.join(", "),
-                if self.criterion == "ok" {
-                    "ran ok"
-                } else {
-                    "ran stably"
-                }
-            )
+                if self.criterion == "ok" { "ran ok" } else { "ran stably" }
+            ));
         }
+        t
     }
 }
 
@@ -191,6 +223,8 @@ fn find_one(
         tried_min,
         tried_max,
         at: None,
+        top: None,
+        above: None,
         isolated_below: Vec::new(),
         runs: Vec::new(),
     };
@@ -208,6 +242,8 @@ fn find_one(
         .iter()
         .rposition(|r| meets(criterion, r.class))
         .expect("one meets it");
+    result.top = Some(t.map[top].c0_over_u);
+    result.above = t.map.get(top + 1).map(|r| (r.c0_over_u, r.class));
     let mut k = top;
     while k > 0 && meets(criterion, t.map[k - 1].class) {
         k -= 1;

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::empirical::{reason, Empirical};
+use super::empirical::Empirical;
 use super::tables::C0Compare;
 use super::Config;
 use crate::charts::fmt_num;
@@ -120,21 +120,7 @@ pub fn verdicts(
                 s.push(format!("Other models: {}.", others.join("; ")));
             }
             if let Some(e) = emp {
-                let mut t = format!("Empirically, {}", e.describe());
-                if let Some(at) = &e.at {
-                    t.push_str(&format!(" ({}; {} s)", reason(at), fmt_num(at.wall_s)));
-                }
-                if let (Some(b), Some(class)) = (e.below, e.below_class) {
-                    t.push_str(&format!("; at {} U the run was {}", fmt_num(b), class));
-                    if let Some(r) = &e.below_reason {
-                        t.push_str(&format!(
-                            " ({})",
-                            r.split_once(": ").map_or(r.as_str(), |x| x.1)
-                        ));
-                    }
-                }
-                t.push('.');
-                s.push(t);
+                s.push(format!("Empirically, {}.", e.describe()));
             }
             if let Some(r) = rule10 {
                 s.push(format!("10 U: {}.", run_words(r)));
@@ -165,7 +151,8 @@ pub fn verdicts(
                     match (emp_c0, emp_ok) {
                         (Some(e), true) if ok => {
                             let tol = 1.0 + config.empirical.rel_tol;
-                            if e * tol * tol < c {
+                            let open_below = emp.is_some_and(|x| x.below.is_none());
+                            if e * tol * tol < c || (open_below && e < c) {
                                 t.push_str(&format!(
                                     ", but not necessary: runs were ok down to {} U, {} times the derived value",
                                     fmt_num(e),
@@ -205,8 +192,12 @@ pub fn verdicts(
                 }
                 _ => match (emp_c0, emp_ok) {
                     (Some(e), true) => format!(
-                        "So the derivation gives nothing to use here, while runs were ok from {} U up.",
-                        fmt_num(e)
+                        "So the derivation gives nothing to use here, while runs were ok from {} U{}.",
+                        fmt_num(e),
+                        match emp.and_then(|x| x.above.map(|a| (x.top, a))) {
+                            Some((Some(top), (_, class))) => format!(" to {} U (above: {class})", fmt_num(top)),
+                            _ => " up".to_string(),
+                        }
                     ),
                     _ => "So the derivation gives nothing to use here, and no c0 tried ran ok.".into(),
                 },
