@@ -91,7 +91,21 @@ pub struct Scene {
     /// Neighbour-list skin in units of h (performance only).
     #[serde(default = "default_skin")]
     pub skin: f64,
+    /// Refuse a run whose estimated wall time (one core) exceeds this many
+    /// seconds: a time step far smaller than intended should be an error,
+    /// not an hours-long run.
+    #[serde(default = "default_max_run_s")]
+    pub max_run_s: f64,
 }
+
+fn default_max_run_s() -> f64 {
+    3600.0
+}
+
+/// Seconds per pair evaluation assumed by the run-time estimate: the
+/// solver's measured cost (about 8 ns per listed pair and pass for the cubic
+/// spline, both passes) rounded up, so the estimate errs long.
+pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 
 fn one() -> f64 {
     1.0
@@ -282,6 +296,7 @@ fn flag_of(field: &'static str) -> &'static str {
         "allow_negative_pressure" => "allow-negative-pressure",
         "pressure_form" => "pressure-form",
         "eps_limit" => "eps-limit",
+        "max_run_s" => "max-run-s",
         other => other,
     }
 }
@@ -373,16 +388,35 @@ impl Scene {
     }
 }
 
-/// A kernel's data by name, or an error listing the known kernels.
+/// A kernel's data by name, or an error listing the known kernels and
+/// suggesting the nearest name.
 pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
-    kernels::kernel_info(name).ok_or_else(|| SceneError::UnknownKernel {
-        name: name.to_string(),
-        known: kernels::KERNELS
+    kernels::kernel_info(name).ok_or_else(|| {
+        let nearest = kernels::NAMES
             .iter()
-            .map(|k| k.name)
-            .collect::<Vec<_>>()
-            .join(", "),
+            .map(|k| (strsim::levenshtein(name, k), *k))
+            .min()
+            .filter(|(dist, k)| *dist <= k.len().max(2) / 2)
+            .map(|(_, k)| format!("; did you mean {k:?}?"))
+            .unwrap_or_default();
+        SceneError::UnknownKernel {
+            name: name.to_string(),
+            known: format!("{}{nearest}", kernels::NAMES.join(", ")),
+        }
     })
+}
+
+/// "3.2 s", "1.5 h", "2.1 days".
+fn human_seconds(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.1} s")
+    } else if s < 7200.0 {
+        format!("{:.1} min", s / 60.0)
+    } else if s < 172_800.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.1} days", s / 86400.0)
+    }
 }
 
 /// A scene resolved against its kernel: every number the solver uses.
@@ -495,6 +529,32 @@ impl Problem {
             }
             None => flow.decay_time(scene.decay_tol),
         };
+        positive("max_run_s", scene.max_run_s)?;
+        {
+            // The run-time estimate: steps at the initial time step (U and p
+            // as the speed and acceleration scales) x particles x neighbours
+            // x two passes.
+            let ts = crate::solver::TimeStep::new(h, c0, flow.nu, scene.u, flow.p);
+            let steps = (t_end / ts.dt).ceil();
+            let particles = lattice.n_particles() as f64;
+            let neighbours =
+                std::f64::consts::PI * (support * h).powi(2) / (0.5 * 3f64.sqrt() * d * d);
+            let est_s = steps * particles * neighbours * 2.0 * EST_S_PER_PAIR_PASS;
+            if est_s > scene.max_run_s {
+                return Err(invalid(
+                    "max_run_s",
+                    format!(
+                        "the run would take about {} on one core ({steps:.3e} steps of dt = {:.3e}, bound by the {} limit, \
+                         x {particles} particles), over the bound max_run_s = {} s; raise it (--max-run-s), \
+                         or shorten t_end, or lower c0 (CFL) / raise Re (viscous)",
+                        human_seconds(est_s),
+                        ts.dt,
+                        ts.limit.name(),
+                        scene.max_run_s
+                    ),
+                ));
+            }
+        }
         let output_interval = match scene.output_interval {
             Some(dt) => {
                 positive("output_interval", dt)?;

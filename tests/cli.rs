@@ -136,6 +136,20 @@ fn bad_input_names_the_field_and_the_fix() {
     let cases: &[(&[&str], &[&str])] = &[
         (&["--n", "1"], &["n_layers", "--n", ">= 3"]),
         (&["--kernel", "nope"], &["unknown kernel", "monaghan"]),
+        (
+            &["--kernel", "monagan"],
+            &["unknown kernel", "did you mean \"monaghan\""],
+        ),
+        (
+            &["--t-end", "1e9", "--re", "1000", "--c0", "rule10"],
+            &[
+                "max_run_s",
+                "would take about",
+                "days",
+                "--max-run-s",
+                "cfl",
+            ],
+        ),
         (&["--alpha", "2"], &["alpha", "[0, 1]"]),
         (&["--u", "-1"], &["`u`", "positive"]),
         (&["--re", "0"], &["`re`", "positive"]),

@@ -85,6 +85,9 @@ pub struct SceneArgs {
     /// Neighbour-list skin in units of h.
     #[arg(long)]
     pub skin: Option<f64>,
+    /// Refuse runs estimated to take longer than this many seconds on one core.
+    #[arg(long)]
+    pub max_run_s: Option<f64>,
 }
 
 impl SceneArgs {
@@ -123,6 +126,7 @@ impl SceneArgs {
         put("eps_limit", self.eps_limit.map(Value::Float));
         put("jitter", self.jitter.map(Value::Float));
         put("skin", self.skin.map(Value::Float));
+        put("max_run_s", self.max_run_s.map(Value::Float));
         t
     }
 
