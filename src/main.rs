@@ -27,6 +27,8 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// The main job: the paper's tables and Figure 4, c0 by every rule, the solver's verdicts, in out/report/index.html.
     Report(cli::report::ReportArgs),
+    /// Time the solver per kernel and particle count, on one core and all: throughput, ns per pair, memory, GFLOP/s against peak.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +38,7 @@ fn main() -> ExitCode {
         Command::C0(args) => cli::c0::main(args),
         Command::Sweep(args) => cli::sweep::main(args),
         Command::Report(args) => cli::report::main(args),
+        Command::Bench(args) => cli::bench::main(args),
     };
     cli::report(result)
 }

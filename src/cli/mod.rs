@@ -2,6 +2,7 @@
 //! one `cli::<command>::main`; each command lives in its own file here, and
 //! the ones that take a scene share [`SceneArgs`].
 
+pub mod bench;
 pub mod c0;
 pub mod kernels;
 pub mod report;

@@ -23,9 +23,15 @@ use serde::Serialize;
 use crate::kernel::Kernel;
 use crate::scene::{Problem, Scene, SceneError};
 use neighbours::{Displacements, NeighbourList};
-use step::{Params, State};
+use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
+
+/// Floating-point operations per pair of one step's passes besides the
+/// kernel's own (`KernelInfo::flops_per_pair` counts W and (dW/dq)/q):
+/// distances, sums, the force terms. Counted by hand in `step.rs`, beside
+/// each loop.
+pub const PASS_FLOPS_PER_PAIR: u32 = step::DENSITY_PAIR_FLOPS + step::FORCE_PAIR_FLOPS;
 
 /// Receives progress from a running simulation.
 pub trait Observer: Send {
@@ -263,37 +269,157 @@ pub fn run<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResu
     rayon::scope(|_| run_here::<K>(problem, observer))
 }
 
+/// The state of a run between steps: particles, neighbour list and what
+/// the last force pass saw. [`run`] drives it to t_end with outputs;
+/// [`bench_steps`] takes a fixed number of steps.
+struct Sim<'p> {
+    problem: &'p Problem,
+    s: State,
+    prm: Params,
+    list: NeighbourList,
+    /// Each lattice layer's displacement box and largest |y|, per step.
+    motion: Vec<(Displacements, f64)>,
+    block: usize,
+    skin: f64,
+    cutoff: f64,
+    forces: Forces,
+    max_eps: f64,
+}
+
+/// What one step found that may end the run.
+struct StepCheck {
+    max_abs_y: f64,
+}
+
+impl<'p> Sim<'p> {
+    /// Particles in place, the first neighbour list, density and forces.
+    fn new<K: Kernel>(problem: &'p Problem) -> Self {
+        let lat = problem.lattice;
+        let h = lat.h;
+        let mut s = State::new(&lat, problem);
+        let prm = Params::new(problem);
+        let skin = problem.scene.skin * h;
+        let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
+        // Blocks for the rebuild rule: the lattice layers, stored in turn.
+        let block = lat.columns as usize;
+        let mut list = NeighbourList::default();
+        s.wrap(lat.width);
+        list.build(&s.x, &s.y, lat.width, cutoff, block);
+        let max_eps = step::density::<K>(&mut s, &list, &prm);
+        let forces = step::forces::<K>(&mut s, &list, &prm, 0.0);
+        Sim {
+            problem,
+            s,
+            prm,
+            list,
+            motion: Vec::with_capacity(lat.fluid_layers() as usize),
+            block,
+            skin,
+            cutoff,
+            forces,
+            max_eps,
+        }
+    }
+
+    /// The time step the last forces allow.
+    fn time_step(&self) -> TimeStep {
+        let p = self.problem;
+        TimeStep::new(
+            p.lattice.h,
+            p.c0,
+            p.flow.nu,
+            self.forces.v_max,
+            self.forces.a_max,
+        )
+    }
+
+    /// One step of length dt: kick and drift, rebuild the list if it may
+    /// miss a pair, density, forces and the closing kick.
+    fn advance<K: Kernel>(&mut self, dt: f64) -> StepCheck {
+        let lat = &self.problem.lattice;
+        step::kick_drift(&mut self.s, dt, self.block, &mut self.motion);
+        let max_abs_y = self.motion.iter().fold(0.0f64, |m, b| m.max(b.1));
+        let motion = &self.motion;
+        if self.list.stale(
+            |b| motion.get(b).map_or(Displacements::ZERO, |m| m.0),
+            self.skin,
+        ) {
+            self.s.wrap(lat.width);
+            self.list
+                .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
+        }
+        self.max_eps = step::density::<K>(&mut self.s, &self.list, &self.prm);
+        self.forces = step::forces::<K>(&mut self.s, &self.list, &self.prm, 0.5 * dt);
+        StepCheck { max_abs_y }
+    }
+
+    /// The failure this step ended in, if any.
+    fn failure(&self, check: &StepCheck) -> Option<Failure> {
+        let p = self.problem;
+        let b = p.lattice.b();
+        if !self.forces.finite {
+            Some(Failure::NotFinite)
+        } else if self.forces.v_max > p.v_limit {
+            Some(Failure::Speed {
+                v: self.forces.v_max,
+                limit: p.v_limit,
+            })
+        } else if check.max_abs_y >= b {
+            Some(Failure::ThroughWall {
+                y: check.max_abs_y,
+                b,
+            })
+        } else if self.max_eps > p.scene.eps_limit {
+            Some(Failure::Compaction {
+                eps: self.max_eps,
+                limit: p.scene.eps_limit,
+            })
+        } else {
+            None
+        }
+    }
+
+    fn sample(&self, t: f64, steps: u64, dt: f64) -> Sample {
+        diagnostics::sample(self.problem, &self.s, t, steps, dt)
+    }
+
+    /// Directed pairs (i, j) within the kernel's support now: the pair
+    /// evaluations a step makes. Sequential; for benchmarks.
+    fn pairs_in_support<K: Kernel>(&self) -> usize {
+        let (x, y) = (&self.s.x, &self.s.y);
+        let inv_h2 = self.prm.inv_h2;
+        (0..x.len())
+            .map(|i| {
+                let (index, offset) = self.list.of(i);
+                index
+                    .iter()
+                    .zip(offset)
+                    .filter(|(&j, &off)| {
+                        let dx = x[i] - x[j as usize] + off;
+                        let dy = y[i] - y[j as usize];
+                        (dx * dx + dy * dy) * inv_h2 <= K::SUPPORT2_CLOSED
+                    })
+                    .count()
+            })
+            .sum()
+    }
+
+    /// Bytes held by the particle arrays and the neighbour structure.
+    fn bytes(&self) -> usize {
+        self.s.bytes()
+            + self.list.bytes()
+            + self.motion.capacity() * size_of::<(Displacements, f64)>()
+    }
+}
+
 fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
     let start = Instant::now();
-    let lat = problem.lattice;
-    let h = lat.h;
-    let mut s = State::new(&lat, problem);
-    let prm = Params::new(problem);
-    let skin = problem.scene.skin * h;
-    let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
-    // Blocks for the rebuild rule: the lattice layers, stored in turn.
-    let block = lat.columns as usize;
-    let mut motion = Vec::with_capacity(lat.fluid_layers() as usize);
-    let mut list = NeighbourList::default();
-    s.wrap(lat.width);
-    list.build(&s.x, &s.y, lat.width, cutoff, block);
-    let mean_neighbours = list.pairs() as f64 / s.x.len() as f64;
+    let mut sim = Sim::new::<K>(problem);
+    let mean_neighbours = sim.list.pairs() as f64 / sim.s.x.len() as f64;
+    let mut max_eps_run = sim.max_eps;
+    let mut dt_stats = DtStats::new(&sim.time_step());
 
-    let mut max_eps = step::density::<K>(&mut s, &list, &prm);
-    let mut max_eps_run = max_eps;
-    let mut forces = step::forces::<K>(&mut s, &list, &prm, 0.0);
-    let nu = problem.flow.nu;
-    let mut dt_stats = DtStats::new(&TimeStep::new(
-        h,
-        problem.c0,
-        nu,
-        forces.v_max,
-        forces.a_max,
-    ));
-
-    let sample =
-        |s: &State, t: f64, steps: u64, dt: f64| diagnostics::sample(problem, s, t, steps, dt);
-    let first = sample(&s, 0.0, 0, dt_stats.last);
+    let first = sim.sample(0.0, 0, dt_stats.last);
     observer.output(&first);
     let mut samples = vec![first];
 
@@ -313,7 +439,7 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     };
     let mut outcome = Outcome::Ok;
     while t < t_end {
-        let ts = TimeStep::new(h, problem.c0, nu, forces.v_max, forces.a_max);
+        let ts = sim.time_step();
         let target = next_output(outputs_done);
         let landing = t + ts.dt >= target;
         let dt = if landing { target - t } else { ts.dt };
@@ -321,41 +447,14 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
             dt_stats.record(&ts);
         }
 
-        step::kick_drift(&mut s, dt, block, &mut motion);
-        let max_abs_y = motion.iter().fold(0.0f64, |m, b| m.max(b.1));
-        if list.stale(|b| motion.get(b).map_or(Displacements::ZERO, |m| m.0), skin) {
-            s.wrap(lat.width);
-            list.build(&s.x, &s.y, lat.width, cutoff, block);
-        }
-        max_eps = step::density::<K>(&mut s, &list, &prm);
-        max_eps_run = max_eps_run.max(max_eps);
-        forces = step::forces::<K>(&mut s, &list, &prm, 0.5 * dt);
+        let check = sim.advance::<K>(dt);
+        max_eps_run = max_eps_run.max(sim.max_eps);
         t = if landing { target } else { t + dt };
         steps += 1;
         observer.step(t, steps);
 
-        let failure = if !forces.finite {
-            Some(Failure::NotFinite)
-        } else if forces.v_max > problem.v_limit {
-            Some(Failure::Speed {
-                v: forces.v_max,
-                limit: problem.v_limit,
-            })
-        } else if max_abs_y >= lat.b() {
-            Some(Failure::ThroughWall {
-                y: max_abs_y,
-                b: lat.b(),
-            })
-        } else if max_eps > problem.scene.eps_limit {
-            Some(Failure::Compaction {
-                eps: max_eps,
-                limit: problem.scene.eps_limit,
-            })
-        } else {
-            None
-        };
-        if let Some(failure) = failure {
-            let last = sample(&s, t, steps, dt);
+        if let Some(failure) = sim.failure(&check) {
+            let last = sim.sample(t, steps, dt);
             observer.output(&last);
             samples.push(last);
             outcome = Outcome::Failed {
@@ -367,7 +466,7 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         }
         if landing {
             outputs_done += 1;
-            let out = sample(&s, t, steps, dt_stats.last);
+            let out = sim.sample(t, steps, dt_stats.last);
             observer.output(&out);
             samples.push(out);
         }
@@ -376,16 +475,87 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     RunResult {
         problem: problem.clone(),
         kernel: K::NAME,
-        n_fluid: s.n_fluid,
-        n_wall: s.x.len() - s.n_fluid,
+        n_fluid: sim.s.n_fluid,
+        n_wall: sim.s.x.len() - sim.s.n_fluid,
         steps,
         t,
         dt: dt_stats,
         outcome,
         samples,
         max_eps_run,
-        neighbour_rebuilds: list.rebuilds,
+        neighbour_rebuilds: sim.list.rebuilds,
         mean_neighbours,
         wall_s: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// A fixed number of steps, timed: what `shearsph bench` measures.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepsRun {
+    pub kernel: &'static str,
+    pub n_fluid: usize,
+    pub n_wall: usize,
+    /// Steps taken (fewer than asked only if the run failed).
+    pub steps: u64,
+    /// Wall-clock seconds of the steps alone (set-up excluded).
+    pub wall_s: f64,
+    /// Directed pairs within the support per step (mean of the first and
+    /// the last state): kernel evaluations W and (dW/dq)/q per step.
+    pub pairs_per_step: f64,
+    /// Directed pairs listed (R h + skin) at the end.
+    pub listed_pairs: usize,
+    pub neighbour_rebuilds: u64,
+    /// Bytes of the particle arrays and the neighbour structure.
+    pub bytes: usize,
+    pub outcome: Outcome,
+    /// Diagnostics after the last step (against the start-up series when
+    /// started from rest, the steady profile when started steady).
+    pub last: Sample,
+}
+
+/// Take `steps` steps of the resolved problem with kernel `K` (each as long
+/// as the limits allow), on the current rayon pool, and time them. Stops
+/// early at a failure.
+pub fn run_steps<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
+    rayon::scope(|_| run_steps_here::<K>(problem, steps))
+}
+
+fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
+    let mut sim = Sim::new::<K>(problem);
+    let pairs_first = sim.pairs_in_support::<K>();
+    let rebuilds_first = sim.list.rebuilds;
+    let mut t = 0.0;
+    let mut taken = 0;
+    let mut dt = 0.0;
+    let mut outcome = Outcome::Ok;
+    let start = Instant::now();
+    while taken < steps {
+        dt = sim.time_step().dt;
+        let check = sim.advance::<K>(dt);
+        t += dt;
+        taken += 1;
+        if let Some(failure) = sim.failure(&check) {
+            outcome = Outcome::Failed {
+                failure,
+                t,
+                step: taken,
+            };
+            break;
+        }
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let pairs_last = sim.pairs_in_support::<K>();
+    StepsRun {
+        kernel: K::NAME,
+        n_fluid: sim.s.n_fluid,
+        n_wall: sim.s.x.len() - sim.s.n_fluid,
+        steps: taken,
+        wall_s,
+        pairs_per_step: 0.5 * (pairs_first + pairs_last) as f64,
+        listed_pairs: sim.list.pairs(),
+        neighbour_rebuilds: sim.list.rebuilds - rebuilds_first,
+        bytes: sim.bytes(),
+        outcome,
+        last: sim.sample(t, taken, dt),
     }
 }

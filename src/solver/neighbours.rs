@@ -108,6 +108,18 @@ impl NeighbourList {
         self.count.iter().map(|&c| c as usize).sum()
     }
 
+    /// Bytes held by the list and its bins.
+    pub fn bytes(&self) -> usize {
+        (self.count.capacity()
+            + self.index.capacity()
+            + self.bin_start.capacity()
+            + self.bin_items.capacity()
+            + self.near_start.capacity()
+            + self.near.capacity())
+            * size_of::<u32>()
+            + self.offset.capacity() * size_of::<f64>()
+    }
+
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
     /// within `cutoff` (which must be below the strip width). Particles come
     /// in blocks of `block` (for the rebuild rule, see [`Self::stale`]).

@@ -81,6 +81,30 @@ impl State {
         }
     }
 
+    /// Bytes held by the arrays.
+    pub fn bytes(&self) -> usize {
+        let f64s = [
+            &self.x,
+            &self.y,
+            &self.vx,
+            &self.vy,
+            &self.vpx,
+            &self.vpy,
+            &self.ax,
+            &self.ay,
+            &self.rho,
+            &self.press,
+            &self.vol,
+            &self.p_rho2,
+            &self.x0,
+            &self.y0,
+        ]
+        .iter()
+        .map(|v| v.capacity())
+        .sum::<usize>();
+        f64s * size_of::<f64>() + self.layer.capacity() * size_of::<i32>()
+    }
+
     /// Wrap the fluid into the strip and take the current positions as the
     /// reference for the rebuild rule.
     pub fn wrap(&mut self, width: f64) {
@@ -218,6 +242,10 @@ pub(crate) fn kick_drift(
         .collect_into_vec(motion);
 }
 
+/// Floating-point operations per pair in the density pass's loop, the
+/// kernel's W aside: dx, dy (3), q^2 (4), the support test (1), the sum (1).
+pub(crate) const DENSITY_PAIR_FLOPS: u32 = 9;
+
 /// Density by summation (11) over fluid and wall neighbours, self included,
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
 /// fluid.
@@ -290,6 +318,13 @@ impl Forces {
         }
     }
 }
+
+/// Floating-point operations per pair in the force pass's loop, the
+/// kernel's (dW/dq)/q aside: dx, dy, r^2, q^2 and the test (8); pressure
+/// p_ij, p_ij g, two products and sums (6); v_ij (2), v_ij . r_ij (3), the
+/// artificial viscosity's min, division, product and two sums (7); the
+/// Laplacian's vol_j g and two products and sums (5).
+pub(crate) const FORCE_PAIR_FLOPS: u32 = 31;
 
 /// Accelerations of the fluid, then the closing kick v += dt/2 a.
 ///

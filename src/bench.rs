@@ -1,0 +1,484 @@
+//! `shearsph bench`: the solver's cost per step, per kernel and particle
+//! count, on one core and on all of them; throughput in particle-steps and
+//! pair evaluations per second, memory, the floating-point rate against the
+//! machine's peak, and how the cost per step grows with the particle count
+//! (a fitted exponent, 1 for linear).
+//!
+//! Each measurement takes a fixed number of steps on the steady-profile
+//! scene below (not to t_end) and times the steps alone; the set-up (first
+//! neighbour list, density and forces) is left out. A measurement is repeated
+//! and the median kept, since the machines this runs on are noisy.
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+
+use crate::kernel::{Kernel, KernelVisitor};
+use crate::kernels;
+use crate::scene::{Initial, Problem, Scene};
+use crate::solver::{self, lattice::Lattice, StepsRun};
+
+/// What to measure.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub kernels: Vec<String>,
+    /// Target particle counts (fluid and walls): each scene is the smallest
+    /// channel with at least this many.
+    pub particles: Vec<usize>,
+    /// Steps per measurement; by default enough for `particle_steps`.
+    pub steps: Option<u64>,
+    /// Particle-steps per measurement when `steps` is not given.
+    pub particle_steps: f64,
+    /// Repeats of each measurement; the median is reported.
+    pub repeats: usize,
+    /// Thread counts (rayon pools) to measure with.
+    pub threads: Vec<usize>,
+}
+
+impl Options {
+    /// About a minute on two cores: every kernel at 1e3, 1e4 and 1e5
+    /// particles, single-threaded and on all cores, three repeats of 2e6
+    /// particle-steps each.
+    pub fn defaults() -> Options {
+        Options {
+            kernels: kernels::NAMES.iter().map(|s| s.to_string()).collect(),
+            particles: vec![1_000, 10_000, 100_000],
+            steps: None,
+            particle_steps: 2e6,
+            repeats: 3,
+            threads: thread_counts(),
+        }
+    }
+}
+
+/// 1 and every core (just 1 on a single core).
+pub fn thread_counts() -> Vec<usize> {
+    let all = cores();
+    if all > 1 {
+        vec![1, all]
+    } else {
+        vec![1]
+    }
+}
+
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The bench scene for a kernel: the steady profile (7) at Re = 10, c0 = 10
+/// U, the default alpha, h = d; N layers to be set. The end time plays no
+/// part (a fixed number of steps is taken); it is set short so that the
+/// scene's run-time bound never refuses a large N.
+pub fn scene(kernel: &str) -> Scene {
+    Scene {
+        kernel: kernel.to_string(),
+        re: Some(10.0),
+        p: None,
+        c0: "rule10".parse().expect("a valid c0 rule"),
+        initial: Initial::Steady,
+        t_end: Some(1e-6),
+        ..Scene::builtin()
+    }
+}
+
+/// The smallest N whose lattice holds at least `target` particles (and no
+/// fewer layers than the kernel needs).
+pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
+    let info = scene.kernel_info()?;
+    let h = scene.h_over_d * scene.d;
+    let count = |n: u32| Lattice::new(n, scene.d, h, info.support).n_particles();
+    // Particles grow by 2 C per layer: start from the estimate, then step.
+    let per_layer = 2 * Lattice::new(1, scene.d, h, info.support).columns as usize;
+    let mut n = (target / per_layer).max(1) as u32;
+    while n > 1 && count(n - 1) >= target {
+        n -= 1;
+    }
+    while count(n) < target {
+        n += 1;
+    }
+    // Not below the kernel's own lower bound on N (the scene's check says).
+    let mut s = scene.clone();
+    s.n_layers = n;
+    while let Err(e) = Problem::new(&s, info) {
+        if s.n_layers > 1_000 {
+            return Err(e.into());
+        }
+        s.n_layers += 1;
+    }
+    Ok(s.n_layers)
+}
+
+/// The machine and the peak it is measured against.
+#[derive(Debug, Clone, Serialize)]
+pub struct Machine {
+    pub cpu: String,
+    pub cores: usize,
+    /// Clock from /proc/cpuinfo (`cpu MHz`, the largest over cores); the
+    /// nominal clock on a virtual machine, no turbo.
+    pub ghz: f64,
+    /// The instruction set this binary was compiled for (target features),
+    /// and the double-precision flops per cycle and core it allows: lanes x
+    /// 2 (two FP ports on current x86 cores) x 2 with FMA.
+    pub isa_in_use: &'static str,
+    pub flops_per_cycle_in_use: f64,
+    /// cores x GHz x flops/cycle for the instruction set in use.
+    pub peak_gflops_in_use: f64,
+    /// The widest vector unit the CPU has (from /proc/cpuinfo flags) and its
+    /// peak the same way: what a build for this CPU could reach.
+    pub isa_best: &'static str,
+    pub flops_per_cycle_best: f64,
+    pub peak_gflops_best: f64,
+    /// Scalar code (one lane) on two FP ports: 2 flops/cycle/core, 4 with FMA.
+    pub peak_gflops_scalar: f64,
+}
+
+/// (name, flops per cycle and core) for an instruction set.
+fn isa(avx512: bool, avx: bool, fma: bool) -> (&'static str, f64) {
+    let lanes = if avx512 {
+        8.0
+    } else if avx {
+        4.0
+    } else {
+        2.0
+    };
+    let name = match (avx512, avx, fma) {
+        (true, _, _) => "AVX-512 + FMA (8 lanes, 2 FMA ports)",
+        (false, true, true) => "AVX2 + FMA (4 lanes, 2 FMA ports)",
+        (false, true, false) => "AVX (4 lanes, add + mul ports)",
+        _ => "SSE2 (2 lanes, add + mul ports, no FMA)",
+    };
+    let fma = if fma || avx512 { 2.0 } else { 1.0 };
+    (name, lanes * 2.0 * fma)
+}
+
+impl Machine {
+    pub fn detect() -> Machine {
+        let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+        let field = |name: &str| {
+            info.lines()
+                .filter(|l| l.starts_with(name))
+                .filter_map(|l| l.split_once(':').map(|(_, v)| v.trim().to_string()))
+                .collect::<Vec<_>>()
+        };
+        let cpu = field("model name").into_iter().next().unwrap_or_default();
+        let mhz = field("cpu MHz")
+            .iter()
+            .filter_map(|v| v.parse::<f64>().ok())
+            .fold(0.0, f64::max);
+        let ghz = if mhz > 0.0 { mhz / 1000.0 } else { f64::NAN };
+        let flags = field("flags").into_iter().next().unwrap_or_default();
+        let has = |f: &str| flags.split_whitespace().any(|x| x == f);
+        let (isa_in_use, in_use) = isa(
+            cfg!(target_feature = "avx512f"),
+            cfg!(target_feature = "avx"),
+            cfg!(target_feature = "fma"),
+        );
+        let (isa_best, best) = isa(has("avx512f"), has("avx"), has("fma"));
+        let cores = cores();
+        let peak = |f: f64| cores as f64 * ghz * f;
+        let scalar = if has("fma") { 4.0 } else { 2.0 };
+        Machine {
+            cpu,
+            cores,
+            ghz,
+            isa_in_use,
+            flops_per_cycle_in_use: in_use,
+            peak_gflops_in_use: peak(in_use),
+            isa_best,
+            flops_per_cycle_best: best,
+            peak_gflops_best: peak(best),
+            peak_gflops_scalar: peak(scalar),
+        }
+    }
+}
+
+/// One measurement: a kernel, a particle count, a thread count.
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub kernel: String,
+    pub target_particles: usize,
+    pub particles: usize,
+    pub n_fluid: usize,
+    pub n_layers: u32,
+    pub threads: usize,
+    pub steps: u64,
+    pub repeats: usize,
+    /// Median over the repeats of the steps' wall time.
+    pub wall_s: f64,
+    /// Every repeat's wall time, in order.
+    pub wall_s_all: Vec<f64>,
+    pub ns_per_particle_step: f64,
+    pub particle_steps_per_s: f64,
+    /// Directed pairs within the support per step, and their rate: each is
+    /// one evaluation of W and (dW/dq)/q with the passes' arithmetic.
+    pub pairs_per_step: f64,
+    pub pairs_per_s: f64,
+    pub ns_per_pair: f64,
+    /// Listed pairs (support + skin) per particle.
+    pub listed_per_particle: f64,
+    /// Flops per pair: the kernel's (generator's count) plus the passes'.
+    pub flops_per_pair: u32,
+    pub gflops: f64,
+    /// gflops over the peak for the instruction set in use, and over the
+    /// CPU's best (see `Machine`); for the threads used (threads/cores of it).
+    pub fraction_of_peak_in_use: f64,
+    pub fraction_of_peak_best: f64,
+    /// Particle arrays and neighbour structure, per particle.
+    pub bytes_per_particle: f64,
+    pub arrays_bytes: usize,
+    /// The process's peak resident memory so far (VmHWM), after this run.
+    pub vm_hwm_bytes: Option<u64>,
+    pub neighbour_rebuilds: u64,
+    pub ok: bool,
+}
+
+/// How the cost per step grows with the particle count, per kernel and
+/// thread count: time per step ~ particles^exponent (least squares on logs).
+#[derive(Debug, Clone, Serialize)]
+pub struct Scaling {
+    pub kernel: String,
+    pub threads: usize,
+    pub exponent: f64,
+    /// ns per particle-step at the smallest and the largest count.
+    pub ns_per_particle_step_first: f64,
+    pub ns_per_particle_step_last: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub machine: Machine,
+    pub scene: String,
+    pub rows: Vec<Row>,
+    pub scaling: Vec<Scaling>,
+}
+
+/// The process's peak resident set (VmHWM), if /proc says.
+pub fn vm_hwm_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+struct Steps<'a> {
+    problem: &'a Problem,
+    steps: u64,
+}
+
+impl KernelVisitor for Steps<'_> {
+    type Output = (StepsRun, u32);
+    fn visit<K: Kernel>(self) -> (StepsRun, u32) {
+        (
+            solver::run_steps::<K>(self.problem, self.steps),
+            K::INFO.flops_per_pair + solver::PASS_FLOPS_PER_PAIR,
+        )
+    }
+}
+
+/// Run `steps` steps of `problem` on a pool of `threads`.
+pub fn measure(problem: &Problem, steps: u64, threads: usize) -> Result<(StepsRun, u32)> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("building the thread pool")?;
+    pool.install(|| {
+        kernels::with_kernel(&problem.scene.kernel, Steps { problem, steps })
+            .with_context(|| format!("unknown kernel {}", problem.scene.kernel))
+    })
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// Least-squares slope of log y against log x.
+pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
+    let mx = lx.iter().sum::<f64>() / n;
+    let my = ly.iter().sum::<f64>() / n;
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Run every measurement; `progress` hears about each as it starts.
+pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
+    if opts.repeats == 0 {
+        bail!("--repeats must be at least 1");
+    }
+    if opts.threads.contains(&0) {
+        bail!("--threads must be at least 1");
+    }
+    let machine = Machine::detect();
+    let mut rows = Vec::new();
+    for kernel in &opts.kernels {
+        let base = scene(kernel);
+        let info = base.kernel_info()?;
+        for &target in &opts.particles {
+            let mut s = base.clone();
+            s.n_layers = layers_for(&s, target)?;
+            let problem = Problem::new(&s, info)?;
+            let particles = problem.lattice.n_particles();
+            let steps = opts.steps.unwrap_or_else(|| {
+                ((opts.particle_steps / particles as f64).ceil() as u64).max(10)
+            });
+            for &threads in &opts.threads {
+                progress(&format!(
+                    "{kernel}: {particles} particles, {threads} thread(s), {steps} steps x {}",
+                    opts.repeats
+                ));
+                let mut walls = Vec::with_capacity(opts.repeats);
+                let mut last = None;
+                for _ in 0..opts.repeats {
+                    let (r, flops) = measure(&problem, steps, threads)?;
+                    walls.push(r.wall_s);
+                    last = Some((r, flops));
+                }
+                let (r, flops) = last.expect("at least one repeat");
+                let wall = median(&walls);
+                let taken = r.steps.max(1) as f64;
+                let per_step = wall / taken;
+                let pairs_per_s = r.pairs_per_step / per_step;
+                let gflops = pairs_per_s * f64::from(flops) * 1e-9;
+                let share = threads.min(machine.cores) as f64 / machine.cores as f64;
+                rows.push(Row {
+                    kernel: kernel.clone(),
+                    target_particles: target,
+                    particles,
+                    n_fluid: r.n_fluid,
+                    n_layers: s.n_layers,
+                    threads,
+                    steps: r.steps,
+                    repeats: opts.repeats,
+                    wall_s: wall,
+                    wall_s_all: walls,
+                    ns_per_particle_step: per_step / particles as f64 * 1e9,
+                    particle_steps_per_s: particles as f64 / per_step,
+                    pairs_per_step: r.pairs_per_step,
+                    pairs_per_s,
+                    ns_per_pair: 1e9 / pairs_per_s,
+                    listed_per_particle: r.listed_pairs as f64 / particles as f64,
+                    flops_per_pair: flops,
+                    gflops,
+                    fraction_of_peak_in_use: gflops / (machine.peak_gflops_in_use * share),
+                    fraction_of_peak_best: gflops / (machine.peak_gflops_best * share),
+                    bytes_per_particle: r.bytes as f64 / particles as f64,
+                    arrays_bytes: r.bytes,
+                    vm_hwm_bytes: vm_hwm_bytes(),
+                    neighbour_rebuilds: r.neighbour_rebuilds,
+                    ok: r.outcome.is_ok(),
+                });
+            }
+        }
+    }
+    let mut scaling = Vec::new();
+    for kernel in &opts.kernels {
+        for &threads in &opts.threads {
+            let mut pts: Vec<&Row> = rows
+                .iter()
+                .filter(|r| &r.kernel == kernel && r.threads == threads)
+                .collect();
+            pts.sort_by_key(|r| r.particles);
+            if pts.len() < 2 || pts[0].particles == pts[pts.len() - 1].particles {
+                continue;
+            }
+            let xy: Vec<(f64, f64)> = pts
+                .iter()
+                .map(|r| (r.particles as f64, r.wall_s / r.steps.max(1) as f64))
+                .collect();
+            scaling.push(Scaling {
+                kernel: kernel.clone(),
+                threads,
+                exponent: fitted_exponent(&xy),
+                ns_per_particle_step_first: pts[0].ns_per_particle_step,
+                ns_per_particle_step_last: pts[pts.len() - 1].ns_per_particle_step,
+            });
+        }
+    }
+    Ok(Report {
+        machine,
+        scene: "steady profile (7), Re = 10, c0 = 10 U, alpha = 0.1, h = d, skin 0.3 h".to_string(),
+        rows,
+        scaling,
+    })
+}
+
+/// The report as a text table.
+pub fn table(r: &Report) -> String {
+    let m = &r.machine;
+    let mut out = String::new();
+    out.push_str(&format!(
+        "machine: {} | {} cores at {:.2} GHz (/proc/cpuinfo)\n",
+        m.cpu, m.cores, m.ghz
+    ));
+    out.push_str(&format!(
+        "peak (cores x GHz x DP flops/cycle): built for {}: {} flops/cycle -> {:.1} GFLOP/s; \
+         CPU's best, {}: {} -> {:.1} GFLOP/s\n",
+        m.isa_in_use,
+        m.flops_per_cycle_in_use,
+        m.peak_gflops_in_use,
+        m.isa_best,
+        m.flops_per_cycle_best,
+        m.peak_gflops_best
+    ));
+    out.push_str(&format!("scene: {}\n\n", r.scene));
+    out.push_str(&format!(
+        "{:<10} {:>8} {:>3} {:>6} {:>9} {:>12} {:>12} {:>7} {:>8} {:>6} {:>6} {:>7} {:>6} {:>8} {:>4}\n",
+        "kernel",
+        "particles",
+        "thr",
+        "steps",
+        "s/step",
+        "p-steps/s",
+        "pairs/s",
+        "ns/pair",
+        "ns/p-step",
+        "GF/s",
+        "%peak",
+        "%best",
+        "B/part",
+        "HWM MiB",
+        "ok"
+    ));
+    for row in &r.rows {
+        out.push_str(&format!(
+            "{:<10} {:>8} {:>3} {:>6} {:>9.3e} {:>12.4e} {:>12.4e} {:>7.2} {:>8.1} {:>6.2} {:>6.1} {:>7.2} {:>6.0} {:>8.1} {:>4}\n",
+            row.kernel,
+            row.particles,
+            row.threads,
+            row.steps,
+            row.wall_s / row.steps.max(1) as f64,
+            row.particle_steps_per_s,
+            row.pairs_per_s,
+            row.ns_per_pair,
+            row.ns_per_particle_step,
+            row.gflops,
+            100.0 * row.fraction_of_peak_in_use,
+            100.0 * row.fraction_of_peak_best,
+            row.bytes_per_particle,
+            row.vm_hwm_bytes.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
+            if row.ok { "ok" } else { "FAIL" },
+        ));
+    }
+    if !r.scaling.is_empty() {
+        out.push_str("\ncost per step ~ particles^k (least squares over the counts above):\n");
+        for s in &r.scaling {
+            out.push_str(&format!(
+                "  {:<10} {} thread(s): k = {:.3}; ns per particle-step {:.1} -> {:.1}\n",
+                s.kernel,
+                s.threads,
+                s.exponent,
+                s.ns_per_particle_step_first,
+                s.ns_per_particle_step_last
+            ));
+        }
+    }
+    out
+}

@@ -1,0 +1,85 @@
+//! `shearsph bench`: time a fixed number of steps per kernel and particle
+//! count, single-threaded and on all cores; a table, or `--json`.
+
+use std::process::ExitCode;
+
+use anyhow::{bail, Result};
+use clap::Args;
+
+use crate::bench::{self, Options};
+use crate::kernels;
+
+/// Time the solver's steps: throughput, ns per pair, memory, GFLOP/s against
+/// the machine's peak, and the growth of the cost with the particle count.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Kernels, comma-separated (default: every kernel).
+    #[arg(long, value_delimiter = ',')]
+    pub kernels: Vec<String>,
+    /// Particle counts to measure (each scene is the smallest channel with
+    /// at least this many, walls included), comma-separated; 1e4 is accepted.
+    #[arg(long, value_delimiter = ',', value_parser = parse_count)]
+    pub particles: Vec<usize>,
+    /// Steps per measurement (default: about 2e6 particle-steps, at least 10).
+    #[arg(long)]
+    pub steps: Option<u64>,
+    /// Repeats per measurement; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Thread counts, comma-separated (default: 1 and every core).
+    #[arg(long, value_delimiter = ',')]
+    pub threads: Vec<usize>,
+    /// Print the report as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// No progress lines on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn parse_count(s: &str) -> Result<usize, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a particle count"))?;
+    if v >= 1.0 && v.is_finite() && v.fract() == 0.0 {
+        Ok(v as usize)
+    } else {
+        Err(format!("{s:?} is not a positive whole number"))
+    }
+}
+
+pub fn main(args: BenchArgs) -> Result<ExitCode> {
+    let mut opts = Options::defaults();
+    if !args.kernels.is_empty() {
+        for k in &args.kernels {
+            if kernels::kernel_info(k).is_none() {
+                bail!(
+                    "unknown kernel {k:?} (flag --kernels); known kernels: {}",
+                    kernels::NAMES.join(", ")
+                );
+            }
+        }
+        opts.kernels = args.kernels;
+    }
+    if !args.particles.is_empty() {
+        opts.particles = args.particles;
+    }
+    if !args.threads.is_empty() {
+        opts.threads = args.threads;
+    }
+    opts.steps = args.steps;
+    opts.repeats = args.repeats;
+    let quiet = args.quiet;
+    let report = bench::run(&opts, |msg| {
+        if !quiet {
+            eprintln!("bench: {msg}");
+        }
+    })?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", bench::table(&report));
+    }
+    Ok(ExitCode::SUCCESS)
+}
