@@ -66,6 +66,27 @@ impl Kernel for Monaghan {
             0.0
         }
     }
+    /// (W, (dW/dq)/q) together: one branch, square root and shifted variable for both.
+    #[inline(always)]
+    fn w_dw_over_q(q2: f64) -> (f64, f64) {
+        if q2 <= 1.0 {
+            let q = q2.sqrt();
+            let s = q - 1.0;
+            (
+                ((0.34104630662549 * s + 0.34104630662549) * s + -0.34104630662549) * s
+                    + 0.11368210220849667,
+                1.02313891987647 * s + -0.34104630662549,
+            )
+        } else if q2 <= Self::SUPPORT2_CLOSED {
+            let q = q2.sqrt();
+            let qb = q + 2.0;
+            let t = 1.0 / (q * qb);
+            let s = (q2 - 4.0) * q * t;
+            (-0.11368210220849667 * s * s * s, (-0.34104630662549 * s * s) * qb * t)
+        } else {
+            (0.0, 0.0)
+        }
+    }
 }
 /// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
 /// row's particles at x = a + phase, a integer.
@@ -492,5 +513,5 @@ pub const INFO: KernelInfo = KernelInfo {
         half_period: "0.001984",
         mean: "-0.001275",
     }),
-    flops_per_pair: 23u32,
+    flops_per_pair: 16u32,
 };

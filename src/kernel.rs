@@ -27,6 +27,10 @@ pub trait Kernel: Copy + Send + Sync + Default + 'static {
     fn dw(q2: f64) -> f64;
     /// (dW/dq) / q, units h^-4. Finite at q = 0.
     fn dw_over_q(q2: f64) -> f64;
+    /// (W, (dW/dq)/q) of one pair together, as accurate as each alone: the
+    /// pieces' branch, the square root and the shifted variable (and the one
+    /// division of an outer piece) are shared.
+    fn w_dw_over_q(q2: f64) -> (f64, f64);
 }
 
 /// A number the generator derived: its f64 value (correctly rounded) and its
@@ -150,8 +154,10 @@ pub struct KernelInfo {
     /// The paper's printed Table 1 row, as printed (strings keep the printed
     /// precision), when the kernel is one of the paper's.
     pub printed_eps: Option<PrintedEps>,
-    /// Floating-point operations per pair evaluation of (w, dw_over_q), as
-    /// counted by the generator in the emitted code.
+    /// Floating-point operations per pair evaluation of (w, dw_over_q)
+    /// together (`Kernel::w_dw_over_q`, the costliest branch, square root and
+    /// division counted as one each, the piece tests included), as counted by
+    /// the generator in the emitted code.
     pub flops_per_pair: u32,
 }
 

@@ -10,13 +10,20 @@ use shearsph_codegen::kernel::{load_dir, KernelDef};
 use shearsph_codegen::rug::{Float, Rational};
 use std::path::Path;
 
-type Fns = [(&'static str, fn(f64) -> f64); 3];
+type Fns = [(&'static str, fn(f64) -> f64); 5];
 
 struct Functions;
 impl KernelVisitor for Functions {
     type Output = Fns;
     fn visit<K: Kernel>(self) -> Fns {
-        [("w", K::w), ("dw", K::dw), ("dw_over_q", K::dw_over_q)]
+        [
+            ("w", K::w),
+            ("dw", K::dw),
+            ("dw_over_q", K::dw_over_q),
+            // the solver's fused evaluation, part by part
+            ("w (fused)", |q2| K::w_dw_over_q(q2).0),
+            ("dw_over_q (fused)", |q2| K::w_dw_over_q(q2).1),
+        ]
     }
 }
 
@@ -30,7 +37,7 @@ fn defs() -> Vec<KernelDef> {
 fn exact(w: &FloatRadial, dw: &FloatRadial, which: &str, q2: f64) -> Float {
     let q2f = Float::with_val(200, q2);
     match which {
-        "w" => w.eval(&q2f),
+        "w" | "w (fused)" => w.eval(&q2f),
         "dw" => dw.eval(&q2f),
         _ => dw.eval(&q2f) / q2f.sqrt(),
     }

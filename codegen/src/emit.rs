@@ -190,6 +190,146 @@ fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
     }
 }
 
+/// How a fused piece reaches its shifted variable.
+#[derive(Clone, Copy, PartialEq)]
+enum Var {
+    /// u = q2 - b^2 (even polynomial, no square root)
+    U,
+    /// s = q - b
+    Sub,
+    /// s = q - b formed without cancellation where the piece vanishes at b
+    Vanishing,
+}
+
+/// What the (dW/dq)/q part of a fused piece does after its Horner form.
+#[derive(Clone, Copy, PartialEq)]
+enum Post {
+    /// nothing: q^-1 was divided exactly on the polynomial
+    None,
+    /// `/ q`
+    DivQ,
+    /// `* qb * t`, t = 1/(q (q + b)): one division serves s and 1/q
+    QbT,
+}
+
+/// One branch of the fused (W, (dW/dq)/q) for pieces of W and W' on the same
+/// interval: one square root, one shifted variable and at most one division
+/// for both, each part as accurate as its own function's (same forms).
+fn fused_piece(pw: &Piece, pd: &Piece) -> (TokenStream, u32) {
+    let b = &pw.to;
+    let b2 = lit(Rational::from(b * b).to_f64());
+    let bl = lit(Exact::rational(b.clone()).to_f64());
+    let vanishes = |poly: &Poly| poly.eval_rational(b).is_zero();
+    let s_var = |poly: &Poly| {
+        if vanishes(poly) {
+            Var::Vanishing
+        } else {
+            Var::Sub
+        }
+    };
+    let (w_poly, w_var) = if pw.poly.is_even() {
+        (shift_q2(&pw.poly, b), Var::U)
+    } else {
+        (shift_q(&pw.poly, b), s_var(&pw.poly))
+    };
+    let exact_div = pd.poly.coef.first().is_none_or(|c| c.is_zero());
+    let (g_poly, g_var, post) = if exact_div {
+        let g = div_q(&pd.poly);
+        if g.is_even() {
+            (shift_q2(&g, b), Var::U, Post::None)
+        } else {
+            let v = s_var(&g);
+            (shift_q(&g, b), v, Post::None)
+        }
+    } else {
+        let v = s_var(&pd.poly);
+        let post = if v == Var::Vanishing {
+            Post::QbT
+        } else {
+            Post::DivQ
+        };
+        (shift_q(&pd.poly, b), v, post)
+    };
+    let uses = |v: Var| w_var == v || g_var == v;
+    let both_s = uses(Var::Sub) && uses(Var::Vanishing);
+    let name = |v: Var| match v {
+        Var::U => quote!(u),
+        Var::Vanishing if both_s => quote!(sv),
+        _ => quote!(s),
+    };
+    let mut lets = TokenStream::new();
+    let mut flops = 0;
+    if uses(Var::U) {
+        lets.extend(quote! { let u = q2 - #b2; });
+        flops += 1;
+    }
+    if uses(Var::Sub) || uses(Var::Vanishing) {
+        lets.extend(quote! { let q = q2.sqrt(); });
+        flops += 1;
+    }
+    if post == Post::QbT {
+        lets.extend(quote! { let qb = q + #bl; let t = 1.0 / (q * qb); });
+        flops += 3;
+    }
+    if uses(Var::Sub) {
+        lets.extend(quote! { let s = q - #bl; });
+        flops += 1;
+    }
+    if uses(Var::Vanishing) {
+        let v = name(Var::Vanishing);
+        if post == Post::QbT {
+            lets.extend(quote! { let #v = (q2 - #b2) * q * t; });
+        } else {
+            lets.extend(quote! { let #v = (q2 - #b2) / (q + #bl); });
+        }
+        flops += 3;
+    }
+    let (hw, fw) = horner(&name(w_var), &w_poly);
+    let (hg, fg) = horner(&name(g_var), &g_poly);
+    let g = match post {
+        Post::None => hg,
+        Post::DivQ => {
+            flops += 1;
+            quote!((#hg) / q)
+        }
+        Post::QbT => {
+            flops += 2;
+            quote!((#hg) * qb * t)
+        }
+    };
+    (quote! { #lets (#hw, #g) }, flops + fw + fg)
+}
+
+/// The fused (W, (dW/dq)/q) and its largest flop count over branches. When
+/// W's and W''s pieces do not share their joints, the two functions in turn.
+fn fused(w: &Radial, dw: &Radial) -> (TokenStream, u32) {
+    let same_joints = w.pieces.len() == dw.pieces.len()
+        && w.pieces.iter().zip(&dw.pieces).all(|(a, b)| a.to == b.to);
+    if !same_joints {
+        let (_, fw) = piecewise(w, Which::W);
+        let (_, fg) = piecewise(dw, Which::DwOverQ);
+        return (quote! { (Self::w(q2), Self::dw_over_q(q2)) }, fw + fg);
+    }
+    let n = w.pieces.len();
+    let mut branches = Vec::new();
+    let mut max_flops = 0;
+    for (i, (pw, pd)) in w.pieces.iter().zip(&dw.pieces).enumerate() {
+        let (body, f) = fused_piece(pw, pd);
+        max_flops = max_flops.max(f);
+        let bound = if i + 1 == n {
+            quote!(Self::SUPPORT2_CLOSED)
+        } else {
+            let b2 = lit(Rational::from(&pw.to * &pw.to).to_f64());
+            quote!(#b2)
+        };
+        branches.push(quote! { if q2 <= #bound { #body } });
+    }
+    (
+        quote! { #(#branches else)* { (0.0, 0.0) } },
+        max_flops + n as u32,
+    )
+}
+
 #[derive(Clone, Copy)]
 enum Which {
     W,
@@ -263,10 +403,11 @@ pub fn kernel_module(a: &Analysis) -> String {
     let support = lit(d.support.to_f64());
     let support_exact = d.support.to_string();
     let support2_closed = lit(Rational::from(&d.support * &d.support).to_f64() * (1.0 + 1e-9));
-    let (w_body, w_flops) = piecewise(&d.w, Which::W);
+    let (w_body, _) = piecewise(&d.w, Which::W);
     let (dw_body, _) = piecewise(&d.dw, Which::Dw);
-    let (dwq_body, dwq_flops) = piecewise(&d.dw, Which::DwOverQ);
-    let flops = w_flops + dwq_flops;
+    let (dwq_body, _) = piecewise(&d.dw, Which::DwOverQ);
+    // the solver evaluates W and (dW/dq)/q of a pair together
+    let (fused_body, flops) = fused(&d.w, &d.dw);
 
     let e = &a.eps;
     let (t0, half, max, t_max, min, t_min, mean) = (
@@ -384,6 +525,10 @@ pub fn kernel_module(a: &Analysis) -> String {
             #[doc = " (dW/dq)/q, units h^-4."]
             #[inline(always)]
             fn dw_over_q(q2: f64) -> f64 { #dwq_body }
+
+            #[doc = " (W, (dW/dq)/q) together: one branch, square root and shifted variable for both."]
+            #[inline(always)]
+            fn w_dw_over_q(q2: f64) -> (f64, f64) { #fused_body }
         }
 
         /// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
