@@ -269,7 +269,7 @@ impl KernelVisitor for Steps<'_> {
     fn visit<K: Kernel>(self) -> (StepsRun, u32) {
         (
             solver::run_steps::<K>(self.problem, self.steps),
-            K::INFO.flops_per_pair + solver::PASS_FLOPS_PER_PAIR,
+            K::INFO.flops_per_pair + solver::pass_flops_per_pair(self.problem),
         )
     }
 }

@@ -22,7 +22,7 @@ use serde::Serialize;
 
 use crate::kernel::Kernel;
 use crate::scene::{Problem, Scene, SceneError};
-use neighbours::{Displacements, NeighbourList};
+use neighbours::{Displacements, Entry, NeighbourList};
 use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
@@ -31,7 +31,14 @@ pub use diagnostics::{LayerProfile, Sample};
 /// kernel's own (`KernelInfo::flops_per_pair` counts W and (dW/dq)/q):
 /// distances, sums, the force terms. Counted by hand in `step.rs`, beside
 /// each loop.
-pub const PASS_FLOPS_PER_PAIR: u32 = step::DENSITY_PAIR_FLOPS + step::FORCE_PAIR_FLOPS;
+pub fn pass_flops_per_pair(problem: &Problem) -> u32 {
+    step::DENSITY_PAIR_FLOPS
+        + if problem.scene.alpha > 0.0 {
+            step::FORCE_PAIR_FLOPS_AV
+        } else {
+            step::FORCE_PAIR_FLOPS
+        }
+}
 
 /// Receives progress from a running simulation.
 pub trait Observer: Send {
@@ -306,7 +313,7 @@ impl<'p> Sim<'p> {
         s.wrap(lat.width);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &prm);
-        let forces = step::forces::<K>(&mut s, &list, &prm, 0.0);
+        let forces = step::forces(&mut s, &list, &prm, 0.0);
         Sim {
             problem,
             s,
@@ -349,7 +356,7 @@ impl<'p> Sim<'p> {
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
         }
         self.max_eps = step::density::<K>(&mut self.s, &self.list, &self.prm);
-        self.forces = step::forces::<K>(&mut self.s, &self.list, &self.prm, 0.5 * dt);
+        self.forces = step::forces(&mut self.s, &self.list, &self.prm, 0.5 * dt);
         StepCheck { max_abs_y }
     }
 
@@ -390,13 +397,14 @@ impl<'p> Sim<'p> {
         let inv_h2 = self.prm.inv_h2;
         (0..x.len())
             .map(|i| {
-                let (index, offset) = self.list.of(i);
-                index
+                let images = self.list.images();
+                self.list
+                    .of(i)
                     .iter()
-                    .zip(offset)
-                    .filter(|(&j, &off)| {
-                        let dx = x[i] - x[j as usize] + off;
-                        let dy = y[i] - y[j as usize];
+                    .filter(|&&e| {
+                        let j = Entry::index(e);
+                        let dx = x[i] - x[j] + images[Entry::image(e)];
+                        let dy = y[i] - y[j];
                         (dx * dx + dy * dy) * inv_h2 <= K::SUPPORT2_CLOSED
                     })
                     .count()

@@ -3,7 +3,9 @@
 //!
 //! Layout: a padded table, `stride` slots per particle and a count, so each
 //! particle's list is one contiguous slice, filled in parallel without
-//! sharing. Order within a list is fixed (by distance at the rebuild, ties
+//! sharing. A slot is one u32: the neighbour's index and, in the top two
+//! bits, the periodic image it was found through ([`Entry`]); 4 bytes per
+//! listed pair. Order within a list is fixed (by distance at the rebuild, ties
 //! by particle index and image), so every sum over it is the same whatever
 //! the thread count.
 //!
@@ -28,11 +30,9 @@ const BUILD_CHUNK: usize = 64;
 pub struct NeighbourList {
     stride: usize,
     count: Vec<u32>,
-    index: Vec<u32>,
-    /// Periodic image of the neighbour, as the offset to add to x_i - x_j
-    /// (a multiple of the strip width; stored as f64 so the pair loops add
-    /// it without a conversion).
-    offset: Vec<f64>,
+    entries: Vec<u32>,
+    /// x offset of each image code, see [`Entry::image`].
+    images: [f64; 4],
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
     /// sorted by bin, and where each bin starts.
     bin_start: Vec<u32>,
@@ -42,6 +42,35 @@ pub struct NeighbourList {
     near_start: Vec<u32>,
     near: Vec<u32>,
     pub rebuilds: u64,
+}
+
+/// A listed neighbour j of i: its index, and the image it was found through
+/// as a code 0, 1, 2 for the offset -W, 0, +W added to x_i - x_j.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Entry;
+
+impl Entry {
+    const IMAGE_SHIFT: u32 = 30;
+    const INDEX_MASK: u32 = (1 << Self::IMAGE_SHIFT) - 1;
+    /// Most particles a list can index.
+    pub const MAX_PARTICLES: usize = 1 << Self::IMAGE_SHIFT;
+
+    #[inline(always)]
+    pub fn pack(j: usize, shift: i8) -> u32 {
+        j as u32 | (((shift + 1) as u32) << Self::IMAGE_SHIFT)
+    }
+
+    #[inline(always)]
+    pub fn index(e: u32) -> usize {
+        (e & Self::INDEX_MASK) as usize
+    }
+
+    /// The image code, an index into [`NeighbourList::images`] (always < 4,
+    /// so that lookup needs no bounds check).
+    #[inline(always)]
+    pub fn image(e: u32) -> usize {
+        (e >> Self::IMAGE_SHIFT) as usize
+    }
 }
 
 /// The box bounding the displacements of a block of particles since the
@@ -95,12 +124,23 @@ impl Displacements {
 }
 
 impl NeighbourList {
-    /// Neighbours of particle i (itself excluded) and their image offsets.
+    /// Neighbours of particle i (itself excluded), as [`Entry`] codes.
     #[inline]
-    pub fn of(&self, i: usize) -> (&[u32], &[f64]) {
+    pub fn of(&self, i: usize) -> &[u32] {
         let start = i * self.stride;
-        let end = start + self.count[i] as usize;
-        (&self.index[start..end], &self.offset[start..end])
+        &self.entries[start..start + self.count[i] as usize]
+    }
+
+    /// The x offset to add to x_i - x_j for each image code
+    /// ([`Entry::image`]).
+    #[inline]
+    pub fn images(&self) -> [f64; 4] {
+        self.images
+    }
+
+    /// Slots per particle: no list is longer.
+    pub fn stride(&self) -> usize {
+        self.stride
     }
 
     /// Total number of listed pairs (each counted from both sides).
@@ -111,13 +151,12 @@ impl NeighbourList {
     /// Bytes held by the list and its bins.
     pub fn bytes(&self) -> usize {
         (self.count.capacity()
-            + self.index.capacity()
+            + self.entries.capacity()
             + self.bin_start.capacity()
             + self.bin_items.capacity()
             + self.near_start.capacity()
             + self.near.capacity())
             * size_of::<u32>()
-            + self.offset.capacity() * size_of::<f64>()
     }
 
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
@@ -133,6 +172,12 @@ impl NeighbourList {
             "particles come in whole blocks"
         );
         let n = x.len();
+        assert!(
+            n <= Entry::MAX_PARTICLES,
+            "at most {} particles",
+            Entry::MAX_PARTICLES
+        );
+        self.images = [-width, 0.0, width, 0.0];
         self.find_near_blocks(y, cutoff, block);
         let ymin = self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
@@ -167,16 +212,14 @@ impl NeighbourList {
         count.resize(n, 0);
         let mut stride = self.stride.max(1);
         loop {
-            self.index.resize(n * stride, 0);
-            self.offset.resize(n * stride, 0.0);
+            self.entries.resize(n * stride, 0);
             let longest = self
-                .index
+                .entries
                 .par_chunks_mut(stride)
-                .zip(self.offset.par_chunks_mut(stride))
                 .zip(count.par_iter_mut())
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .map_init(Vec::new, |found, (i, ((index, offset), c))| {
+                .map_init(Vec::new, |found, (i, (entries, c))| {
                     found.clear();
                     visit(i, &mut |j, s, r2| found.push((r2, j, s)));
                     *c = found.len() as u32;
@@ -187,9 +230,8 @@ impl NeighbourList {
                         // the skin). Stable, so ties keep the visiting order;
                         // r^2 >= 0 sorts as its bits.
                         found.sort_by_key(|e| e.0.to_bits());
-                        for (k, &(_, j, s)) in found.iter().enumerate() {
-                            index[k] = j;
-                            offset[k] = f64::from(s) * width;
+                        for (slot, &(_, j, s)) in entries.iter_mut().zip(found.iter()) {
+                            *slot = Entry::pack(j as usize, s);
                         }
                     }
                     found.len()
@@ -325,11 +367,13 @@ mod tests {
         let mut list = NeighbourList::default();
         list.build(&x, &y, l.width, cutoff, l.columns as usize);
         for i in 0..x.len() {
-            let (idx, sh) = list.of(i);
-            let mut got: Vec<(u32, i8)> = idx
+            let mut got: Vec<(u32, i8)> = list
+                .of(i)
                 .iter()
-                .zip(sh)
-                .map(|(&j, &off)| (j, (off / l.width).round() as i8))
+                .map(|&e| {
+                    let off = list.images()[Entry::image(e)];
+                    (Entry::index(e) as u32, (off / l.width).round() as i8)
+                })
                 .collect();
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::lattice::Lattice;
-use super::neighbours::{Displacements, NeighbourList};
+use super::neighbours::{Displacements, Entry, NeighbourList};
 use crate::kernel::Kernel;
 use crate::scene::{Initial, PressureForm, Problem};
 
@@ -40,6 +40,15 @@ pub(crate) struct State {
     pub y0: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
+    /// What the density pass leaves for the force pass, per fluid particle:
+    /// its neighbours within the support now (neighbour-list entries) and
+    /// their (dW/dq)/q, so the kernel is evaluated once per pair and step
+    /// and the force pass has neither a distance test nor a kernel branch.
+    /// `near_stride` slots per particle, as the neighbour list.
+    pub near: Vec<u32>,
+    pub near_g: Vec<f64>,
+    pub near_count: Vec<u32>,
+    pub near_stride: usize,
 }
 
 impl State {
@@ -78,6 +87,10 @@ impl State {
             x,
             y,
             layer,
+            near: Vec::new(),
+            near_g: Vec::new(),
+            near_count: vec![0; n_fluid],
+            near_stride: 0,
         }
     }
 
@@ -102,7 +115,9 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        f64s * size_of::<f64>() + self.layer.capacity() * size_of::<i32>()
+        (f64s + self.near_g.capacity()) * size_of::<f64>()
+            + (self.layer.capacity() + self.near.capacity() + self.near_count.capacity())
+                * size_of::<u32>()
     }
 
     /// Wrap the fluid into the strip and take the current positions as the
@@ -195,7 +210,8 @@ impl Params {
 /// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
 /// v + dt/2 a of the end-of-step velocity for the forces. Fills `motion`
 /// with each block's displacements since the last rebuild and how far from
-/// the centre line it reached.
+/// the centre line it reached. Parallel over tasks of whole blocks (a block,
+/// one lattice layer, is only a few particles).
 pub(crate) fn kick_drift(
     s: &mut State,
     dt: f64,
@@ -204,93 +220,166 @@ pub(crate) fn kick_drift(
 ) {
     let nf = s.n_fluid;
     let half = 0.5 * dt;
+    // Sized once: every later step reuses it.
+    motion.resize(nf / block, (Displacements::EMPTY, 0.0));
+    let blocks_per_task = CHUNK.div_ceil(block);
+    let span = blocks_per_task * block;
     (
-        s.x[..nf].par_chunks_mut(block),
-        s.y[..nf].par_chunks_mut(block),
-        s.vx[..nf].par_chunks_mut(block),
-        s.vy[..nf].par_chunks_mut(block),
-        s.vpx[..nf].par_chunks_mut(block),
-        s.vpy[..nf].par_chunks_mut(block),
-        s.ax.par_chunks(block),
-        s.ay.par_chunks(block),
-        s.x0.par_chunks(block),
-        s.y0.par_chunks(block),
+        s.x[..nf].par_chunks_mut(span),
+        s.y[..nf].par_chunks_mut(span),
+        s.vx[..nf].par_chunks_mut(span),
+        s.vy[..nf].par_chunks_mut(span),
+        s.vpx[..nf].par_chunks_mut(span),
+        s.vpy[..nf].par_chunks_mut(span),
+        s.ax.par_chunks(span),
+        s.ay.par_chunks(span),
+        s.x0.par_chunks(span),
+        s.y0.par_chunks(span),
+        motion.par_chunks_mut(blocks_per_task),
     )
         .into_par_iter()
-        .with_min_len(CHUNK.div_ceil(block))
-        .map(|(x, y, vx, vy, vpx, vpy, ax, ay, x0, y0)| {
-            let mut d = Displacements::EMPTY;
-            let mut max_abs_y = 0.0f64;
-            for k in 0..x.len() {
-                vx[k] += half * ax[k];
-                vy[k] += half * ay[k];
-                x[k] += dt * vx[k];
-                y[k] += dt * vy[k];
-                vpx[k] = vx[k] + half * ax[k];
-                vpy[k] = vy[k] + half * ay[k];
-                d.add(x[k] - x0[k], y[k] - y0[k]);
-                // NaN compares false: make it count as out of the channel.
-                let ya = y[k].abs();
-                max_abs_y = if ya.is_nan() {
-                    f64::INFINITY
-                } else {
-                    max_abs_y.max(ya)
-                };
+        .for_each(|(x, y, vx, vy, vpx, vpy, ax, ay, x0, y0, motion)| {
+            for (b, m) in motion.iter_mut().enumerate() {
+                let r = b * block..(b + 1) * block;
+                let (x, y, vx, vy) = (
+                    &mut x[r.clone()],
+                    &mut y[r.clone()],
+                    &mut vx[r.clone()],
+                    &mut vy[r.clone()],
+                );
+                let (vpx, vpy) = (&mut vpx[r.clone()], &mut vpy[r.clone()]);
+                let (ax, ay, x0, y0) = (&ax[r.clone()], &ay[r.clone()], &x0[r.clone()], &y0[r]);
+                let mut d = Displacements::EMPTY;
+                let mut max_abs_y = 0.0f64;
+                for k in 0..block {
+                    vx[k] += half * ax[k];
+                    vy[k] += half * ay[k];
+                    x[k] += dt * vx[k];
+                    y[k] += dt * vy[k];
+                    vpx[k] = vx[k] + half * ax[k];
+                    vpy[k] = vy[k] + half * ay[k];
+                    d.add(x[k] - x0[k], y[k] - y0[k]);
+                    // NaN compares false: make it count as out of the channel.
+                    let ya = y[k].abs();
+                    max_abs_y = if ya.is_nan() {
+                        f64::INFINITY
+                    } else {
+                        max_abs_y.max(ya)
+                    };
+                }
+                *m = (d, max_abs_y);
             }
-            (d, max_abs_y)
-        })
-        .collect_into_vec(motion);
+        });
 }
 
 /// Floating-point operations per pair in the density pass's loop, the
-/// kernel's W aside: dx, dy (3), q^2 (4), the support test (1), the sum (1).
+/// kernel's (W, (dW/dq)/q) aside: dx with its image, dy (3), q^2 (4), the
+/// support test (1), the sum (1).
 pub(crate) const DENSITY_PAIR_FLOPS: u32 = 9;
 
 /// Density by summation (11) over fluid and wall neighbours, self included,
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
-/// fluid.
+/// fluid. For the fluid it also keeps, per particle, the neighbours within
+/// the support and their (dW/dq)/q for [`forces`]: W and (dW/dq)/q come from
+/// one fused evaluation.
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
-    // Slices of one known length: one bounds check per neighbour covers all.
     let n = s.x.len();
-    let (x, y, nf) = (&s.x[..n], &s.y[..n], s.n_fluid);
+    let nf = s.n_fluid;
+    // Room for the longest list: grows only when a rebuild lengthened it.
+    let stride = list.stride().max(1);
+    if s.near_stride != stride {
+        s.near_stride = stride;
+        s.near.resize(nf * stride, 0);
+        s.near_g.resize(nf * stride, 0.0);
+    }
+    // Slices of one known length: one bounds check per neighbour covers all.
+    let (x, y) = (&s.x[..n], &s.y[..n]);
+    let images = list.images();
     let w_self = K::w(0.0);
-    (
-        s.rho.par_chunks_mut(CHUNK),
-        s.press.par_chunks_mut(CHUNK),
-        s.vol.par_chunks_mut(CHUNK),
-        s.p_rho2.par_chunks_mut(CHUNK),
+    let eos = |k: usize,
+               sum: f64,
+               rho: &mut [f64],
+               press: &mut [f64],
+               vol: &mut [f64],
+               p_rho2: &mut [f64]| {
+        let r = prm.mass_over_h2 * sum;
+        let p = prm.pressure(r);
+        rho[k] = r;
+        press[k] = p;
+        vol[k] = prm.mass / r;
+        p_rho2[k] = p / (r * r);
+        r
+    };
+    // The fluid: W and (dW/dq)/q together, the pairs in reach kept.
+    let fluid = (
+        s.rho[..nf].par_chunks_mut(CHUNK),
+        s.press[..nf].par_chunks_mut(CHUNK),
+        s.vol[..nf].par_chunks_mut(CHUNK),
+        s.p_rho2[..nf].par_chunks_mut(CHUNK),
+        s.near.par_chunks_mut(CHUNK * stride),
+        s.near_g.par_chunks_mut(CHUNK * stride),
+        s.near_count.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, (rho, press, vol, p_rho2))| {
+        .map(|(c, (rho, press, vol, p_rho2, near, near_g, near_count))| {
             let mut max_eps = f64::NEG_INFINITY;
-            for k in 0..rho.len() {
+            for (k, (near, near_g)) in near
+                .chunks_exact_mut(stride)
+                .zip(near_g.chunks_exact_mut(stride))
+                .enumerate()
+            {
                 let i = c * CHUNK + k;
                 let (xi, yi) = (x[i], y[i]);
-                let (index, offset) = list.of(i);
                 let mut sum = w_self;
-                for (&j, &off) in index.iter().zip(offset) {
-                    let j = j as usize;
-                    let dx = xi - x[j] + off;
+                let mut kept = 0;
+                for &e in list.of(i) {
+                    let j = Entry::index(e);
+                    let dx = xi - x[j] + images[Entry::image(e)];
+                    let dy = yi - y[j];
+                    let q2 = (dx * dx + dy * dy) * prm.inv_h2;
+                    if q2 <= K::SUPPORT2_CLOSED {
+                        let (w, g) = K::w_dw_over_q(q2);
+                        sum += w;
+                        near[kept] = e;
+                        near_g[kept] = g;
+                        kept += 1;
+                    }
+                }
+                near_count[k] = kept as u32;
+                let r = eos(k, sum, rho, press, vol, p_rho2);
+                max_eps = max_eps.max(r / prm.rho0 - 1.0);
+            }
+            max_eps
+        })
+        .reduce(|| f64::NEG_INFINITY, f64::max);
+    // The walls: W only.
+    (
+        s.rho[nf..].par_chunks_mut(CHUNK),
+        s.press[nf..].par_chunks_mut(CHUNK),
+        s.vol[nf..].par_chunks_mut(CHUNK),
+        s.p_rho2[nf..].par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(c, (rho, press, vol, p_rho2))| {
+            for k in 0..rho.len() {
+                let i = nf + c * CHUNK + k;
+                let (xi, yi) = (x[i], y[i]);
+                let mut sum = w_self;
+                for &e in list.of(i) {
+                    let j = Entry::index(e);
+                    let dx = xi - x[j] + images[Entry::image(e)];
                     let dy = yi - y[j];
                     let q2 = (dx * dx + dy * dy) * prm.inv_h2;
                     if q2 <= K::SUPPORT2_CLOSED {
                         sum += K::w(q2);
                     }
                 }
-                let r = prm.mass_over_h2 * sum;
-                let p = prm.pressure(r);
-                rho[k] = r;
-                press[k] = p;
-                vol[k] = prm.mass / r;
-                p_rho2[k] = p / (r * r);
-                if i < nf {
-                    max_eps = max_eps.max(r / prm.rho0 - 1.0);
-                }
+                eos(k, sum, rho, press, vol, p_rho2);
             }
-            max_eps
-        })
-        .reduce(|| f64::NEG_INFINITY, f64::max)
+        });
+    fluid
 }
 
 /// What the force pass saw at the end of the step.
@@ -319,14 +408,16 @@ impl Forces {
     }
 }
 
-/// Floating-point operations per pair in the force pass's loop, the
-/// kernel's (dW/dq)/q aside: dx, dy, r^2, q^2 and the test (8); pressure
-/// p_ij, p_ij g, two products and sums (6); v_ij (2), v_ij . r_ij (3), the
-/// artificial viscosity's min, division, product and two sums (7); the
-/// Laplacian's vol_j g and two products and sums (5).
-pub(crate) const FORCE_PAIR_FLOPS: u32 = 31;
+/// Floating-point operations per pair in the force pass's loop (the kernel
+/// was evaluated in the density pass): dx with its image, dy (3); pressure
+/// p_ij, p_ij g, two products and sums (6); v_ij (2), the Laplacian's
+/// vol_j g and two products and sums (5). With artificial viscosity also
+/// r^2 (3), v_ij . r_ij (3), min, division, product and two sums (7).
+pub(crate) const FORCE_PAIR_FLOPS: u32 = 16;
+pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
 
-/// Accelerations of the fluid, then the closing kick v += dt/2 a.
+/// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
+/// pairs [`density`] kept (within the support, with their (dW/dq)/q).
 ///
 /// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
 ///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
@@ -335,30 +426,29 @@ pub(crate) const FORCE_PAIR_FLOPS: u32 = 31;
 /// - viscosity, the Laplacian (14) with the right sign on both components:
 ///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij;
 /// - the body force p along +x.
-pub(crate) fn forces<K: Kernel>(
-    s: &mut State,
-    list: &NeighbourList,
-    prm: &Params,
-    half_dt: f64,
-) -> Forces {
-    if prm.symmetric {
-        forces_with::<K, true>(s, list, prm, half_dt)
-    } else {
-        forces_with::<K, false>(s, list, prm, half_dt)
+pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+    match (prm.symmetric, prm.av != 0.0) {
+        (true, true) => forces_with::<true, true>(s, list, prm, half_dt),
+        (true, false) => forces_with::<true, false>(s, list, prm, half_dt),
+        (false, true) => forces_with::<false, true>(s, list, prm, half_dt),
+        (false, false) => forces_with::<false, false>(s, list, prm, half_dt),
     }
 }
 
-fn forces_with<K: Kernel, const SYMMETRIC: bool>(
+fn forces_with<const SYMMETRIC: bool, const AV: bool>(
     s: &mut State,
     list: &NeighbourList,
     prm: &Params,
     half_dt: f64,
 ) -> Forces {
     let nf = s.n_fluid;
+    let stride = s.near_stride;
     // Slices of one known length: one bounds check per neighbour covers all.
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
     let (rho, press, vol, p_rho2) = (&s.rho[..n], &s.press[..n], &s.vol[..n], &s.p_rho2[..n]);
+    let (near, near_g, near_count) = (&s.near, &s.near_g, &s.near_count);
+    let images = list.images();
     (
         s.ax.par_chunks_mut(CHUNK),
         s.ay.par_chunks_mut(CHUNK),
@@ -376,32 +466,31 @@ fn forces_with<K: Kernel, const SYMMETRIC: bool>(
                 let (mut px, mut py) = (0.0, 0.0);
                 let (mut avx, mut avy) = (0.0, 0.0);
                 let (mut lx, mut ly) = (0.0, 0.0);
-                let (index, offset) = list.of(i);
-                for (&j, &off) in index.iter().zip(offset) {
-                    let j = j as usize;
-                    let dx = xi - x[j] + off;
-                    let dy = yi - y[j];
-                    let r2 = dx * dx + dy * dy;
-                    let q2 = r2 * prm.inv_h2;
-                    if q2 > K::SUPPORT2_CLOSED {
-                        continue;
-                    }
+                let start = i * stride;
+                let end = start + near_count[i] as usize;
+                for (&e, &g) in near[start..end].iter().zip(&near_g[start..end]) {
+                    let j = Entry::index(e);
                     // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
-                    let g = K::dw_over_q(q2);
+                    let dx = xi - x[j] + images[Entry::image(e)];
+                    let dy = yi - y[j];
                     let pij = if SYMMETRIC {
                         pri + p_rho2[j]
                     } else {
                         pi + press[j]
                     };
-                    px += pij * g * dx;
-                    py += pij * g * dy;
+                    let pg = pij * g;
+                    px += pg * dx;
+                    py += pg * dy;
                     let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
-                    let vr = dvx * dx + dvy * dy;
-                    // Only approaching pairs (v_ij . r_ij < 0); branch-free,
-                    // since the sign changes unpredictably from pair to pair.
-                    let f = vr.min(0.0) / r2 * g;
-                    avx += f * dx;
-                    avy += f * dy;
+                    if AV {
+                        let r2 = dx * dx + dy * dy;
+                        let vr = dvx * dx + dvy * dy;
+                        // Only approaching pairs (v_ij . r_ij < 0); branch-free,
+                        // since the sign changes unpredictably from pair to pair.
+                        let f = vr.min(0.0) / r2 * g;
+                        avx += f * dx;
+                        avy += f * dy;
+                    }
                     let f = vol[j] * g;
                     lx += f * dvx;
                     ly += f * dvy;
