@@ -482,3 +482,75 @@ pub fn table(r: &Report) -> String {
     }
     out
 }
+
+/// shearsph on the scene matched to PySPH's stock example
+/// `pysph.examples.poiseuille` (see bench/peers/): one run of fixed steps.
+#[derive(Debug, Clone, Serialize)]
+pub struct PeerRun {
+    pub code: String,
+    pub particles: usize,
+    pub n_fluid: usize,
+    pub n_wall: usize,
+    pub steps: u64,
+    pub threads: usize,
+    /// Wall-clock seconds of the steps alone.
+    pub wall_s: f64,
+    pub particle_steps_per_s: f64,
+    pub t: f64,
+    /// t in units of B^2 / nu (B the half-width): the physical time that
+    /// both codes reach after the same number of steps.
+    pub tau: f64,
+    /// max over layers of |mean u - start-up series| / U at t.
+    pub linf_rel_err: f64,
+}
+
+/// PySPH's example, in shearsph's terms: the quintic spline (shearsph's
+/// `morris`, R = 3 h), h / B = 1/30 (dx = h = 1/60 across Ly = 1 = 2 B),
+/// Re = Vmax Ly / nu = 0.0125, i.e. U B / nu = 0.00625, c0 = 10 U, no
+/// artificial viscosity (TVF has none), from rest. The time step is then
+/// bound by the viscous limit 0.125 h^2 / nu in both codes, so equal steps
+/// reach equal t nu / B^2. N = 35 layers in the half-width (h = 35 dy / 30 =
+/// 1.0104 d) and a strip 22 columns wide: 1650 particles with the walls,
+/// against PySPH's 1680 (24 x 60 fluid, 2 x 5 x 24 wall).
+pub fn pysph_match_problem() -> Result<Problem> {
+    let n_layers = 35;
+    let scene = Scene {
+        kernel: "morris".into(),
+        n_layers,
+        h_over_d: f64::from(n_layers) * 0.5 * 3f64.sqrt() / 30.0,
+        re: Some(0.00625),
+        p: None,
+        c0: "rule10".parse().expect("a valid c0 rule"),
+        alpha: 0.0,
+        initial: Initial::Rest,
+        t_end: Some(1e-6),
+        ..Scene::builtin()
+    };
+    let mut problem = Problem::new(&scene, scene.kernel_info()?)?;
+    // A wider strip than the kernel needs, to match the particle count:
+    // the flow does not depend on x.
+    let lat = &mut problem.lattice;
+    lat.columns = 22;
+    lat.width = f64::from(lat.columns) * lat.d;
+    Ok(problem)
+}
+
+pub fn pysph_match(steps: u64, threads: usize) -> Result<PeerRun> {
+    let problem = pysph_match_problem()?;
+    let (r, _) = measure(&problem, steps, threads)?;
+    let particles = r.n_fluid + r.n_wall;
+    let flow = &problem.flow;
+    Ok(PeerRun {
+        code: "shearsph (morris = quintic spline)".into(),
+        particles,
+        n_fluid: r.n_fluid,
+        n_wall: r.n_wall,
+        steps: r.steps,
+        threads,
+        wall_s: r.wall_s,
+        particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s,
+        t: r.last.t,
+        tau: r.last.t * flow.nu / (flow.b * flow.b),
+        linf_rel_err: r.last.linf_rel_err,
+    })
+}

@@ -35,6 +35,11 @@ pub struct BenchArgs {
     /// No progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
+    /// Instead: one run of the scene matched to PySPH's stock
+    /// `pysph.examples.poiseuille` (see bench/peers/), `--steps` steps (default
+    /// 2000) on the first of `--threads` (default all cores); prints JSON.
+    #[arg(long)]
+    pub pysph_match: bool,
 }
 
 fn parse_count(s: &str) -> Result<usize, String> {
@@ -50,6 +55,16 @@ fn parse_count(s: &str) -> Result<usize, String> {
 }
 
 pub fn main(args: BenchArgs) -> Result<ExitCode> {
+    if args.pysph_match {
+        let threads = args
+            .threads
+            .first()
+            .copied()
+            .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
+        let run = bench::pysph_match(args.steps.unwrap_or(2000), threads)?;
+        println!("{}", serde_json::to_string(&run)?);
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut opts = Options::defaults();
     if !args.kernels.is_empty() {
         for k in &args.kernels {

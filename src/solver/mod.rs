@@ -16,6 +16,7 @@ pub mod lattice;
 pub mod neighbours;
 mod step;
 
+use std::marker::PhantomData;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -494,6 +495,36 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         neighbour_rebuilds: sim.list.rebuilds,
         mean_neighbours,
         wall_s: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// One step at a time, for benchmarks (`benches/step.rs`): the set-up on
+/// creation, then each [`Stepper::step`] is one full step of the solver's
+/// loop (kick and drift, neighbour list when stale, density, forces), its
+/// length from the limits.
+pub struct Stepper<'p, K: Kernel> {
+    sim: Sim<'p>,
+    kernel: PhantomData<K>,
+}
+
+impl<'p, K: Kernel> Stepper<'p, K> {
+    pub fn new(problem: &'p Problem) -> Self {
+        Stepper {
+            sim: Sim::new::<K>(problem),
+            kernel: PhantomData,
+        }
+    }
+
+    /// One step; returns the failure it ended in, if any.
+    pub fn step(&mut self) -> Option<Failure> {
+        let dt = self.sim.time_step().dt;
+        let check = self.sim.advance::<K>(dt);
+        self.sim.failure(&check)
+    }
+
+    /// Fluid and wall particles.
+    pub fn particles(&self) -> usize {
+        self.sim.s.x.len()
     }
 }
 

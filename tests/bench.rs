@@ -1,0 +1,149 @@
+//! `shearsph bench` from the outside: the JSON report's shape on a tiny
+//! configuration, and the scene matched to PySPH's example. No timing is
+//! asserted: these only check that every figure is there and sane.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn shearsph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn json(o: &Output) -> Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("stdout is JSON")
+}
+
+fn positive(v: &Value, key: &str) -> f64 {
+    let x = v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("`{key}` is a number in {v}"));
+    assert!(x > 0.0 && x.is_finite(), "`{key}` = {x}");
+    x
+}
+
+#[test]
+fn bench_json_has_every_figure() {
+    let o = shearsph(&[
+        "bench",
+        "--kernels",
+        "monaghan,composite",
+        "--particles",
+        "100,300",
+        "--steps",
+        "3",
+        "--repeats",
+        "2",
+        "--threads",
+        "1,2",
+        "--json",
+        "--quiet",
+    ]);
+    let r = json(&o);
+    let m = &r["machine"];
+    for key in [
+        "ghz",
+        "flops_per_cycle_in_use",
+        "peak_gflops_in_use",
+        "flops_per_cycle_best",
+        "peak_gflops_best",
+    ] {
+        // the clock comes from /proc/cpuinfo; elsewhere it may be missing
+        if m[key].is_number() {
+            positive(m, key);
+        }
+    }
+    assert!(m["cores"].as_u64().unwrap() >= 1);
+    assert!(m["isa_in_use"].is_string());
+
+    let rows = r["rows"].as_array().unwrap();
+    // 2 kernels x 2 counts x 2 thread counts
+    assert_eq!(rows.len(), 8);
+    for row in rows {
+        assert!(row["ok"].as_bool().unwrap(), "{row}");
+        assert_eq!(row["steps"].as_u64(), Some(3));
+        assert_eq!(row["wall_s_all"].as_array().unwrap().len(), 2);
+        let particles = row["particles"].as_u64().unwrap();
+        assert!(particles >= row["target_particles"].as_u64().unwrap());
+        for key in [
+            "wall_s",
+            "ns_per_particle_step",
+            "particle_steps_per_s",
+            "pairs_per_step",
+            "pairs_per_s",
+            "ns_per_pair",
+            "listed_per_particle",
+            "gflops",
+            "fraction_of_peak_in_use",
+            "fraction_of_peak_best",
+            "bytes_per_particle",
+        ] {
+            positive(row, key);
+        }
+        assert!(row["flops_per_pair"].as_u64().unwrap() > 0);
+        // the listed pairs include the skin's
+        assert!(
+            row["listed_per_particle"].as_f64().unwrap() * particles as f64
+                >= row["pairs_per_step"].as_f64().unwrap()
+        );
+    }
+    let scaling = r["scaling"].as_array().unwrap();
+    assert_eq!(scaling.len(), 4, "one fit per kernel and thread count");
+    for s in scaling {
+        assert!(s["exponent"].as_f64().unwrap().is_finite());
+    }
+}
+
+#[test]
+fn bench_table_names_the_peak() {
+    let o = shearsph(&[
+        "bench",
+        "--kernels",
+        "composite",
+        "--particles",
+        "100",
+        "--steps",
+        "2",
+        "--repeats",
+        "1",
+        "--threads",
+        "1",
+        "--quiet",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("flops/cycle"), "{text}");
+    assert!(text.contains("composite"), "{text}");
+}
+
+#[test]
+fn bench_rejects_an_unknown_kernel() {
+    let o = shearsph(&["bench", "--kernels", "nope", "--quiet"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("monaghan"));
+}
+
+#[test]
+fn pysph_matched_scene_is_matched() {
+    let r = json(&shearsph(&[
+        "bench",
+        "--pysph-match",
+        "--steps",
+        "4",
+        "--threads",
+        "1",
+    ]));
+    // PySPH's example: 1440 fluid + 240 wall particles; within 5 %.
+    let particles = r["particles"].as_u64().unwrap() as f64;
+    assert!((particles / 1680.0 - 1.0).abs() < 0.05, "{particles}");
+    assert_eq!(r["steps"].as_u64(), Some(4));
+    // The viscous limit binds: 4 steps of 0.125 h^2 / nu with h / B = 1/30.
+    let tau = r["tau"].as_f64().unwrap();
+    assert!((tau - 4.0 * 0.125 / 900.0).abs() < 1e-12, "{tau}");
+    positive(&r, "particle_steps_per_s");
+    positive(&r, "linf_rel_err");
+}
