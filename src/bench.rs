@@ -115,39 +115,30 @@ pub struct Machine {
     /// Clock from /proc/cpuinfo (`cpu MHz`, the largest over cores); the
     /// nominal clock on a virtual machine, no turbo.
     pub ghz: f64,
-    /// The instruction set this binary was compiled for (target features),
-    /// and the double-precision flops per cycle and core it allows: lanes x
-    /// 2 (two FP ports on current x86 cores) x 2 with FMA.
-    pub isa_in_use: &'static str,
+    /// The vector instructions of the pair loops (chosen at run time), and
+    /// the double-precision flops per cycle and core they allow: lanes x 2
+    /// (two FP ports on current x86 cores), no FMA (Rust never fuses a * b +
+    /// c, and the solver writes no mul_add).
+    pub isa_in_use: String,
     pub flops_per_cycle_in_use: f64,
     /// cores x GHz x flops/cycle for the instruction set in use.
     pub peak_gflops_in_use: f64,
-    /// The widest vector unit the CPU has (from /proc/cpuinfo flags) and its
-    /// peak the same way: what a build for this CPU could reach.
+    /// The widest vector unit the CPU has (from /proc/cpuinfo flags) with
+    /// FMA: lanes x 2 ports x 2 (the usual quoted peak, e.g. AVX2 FMA 16,
+    /// AVX-512 FMA 32 DP flops/cycle).
     pub isa_best: &'static str,
     pub flops_per_cycle_best: f64,
     pub peak_gflops_best: f64,
-    /// Scalar code (one lane) on two FP ports: 2 flops/cycle/core, 4 with FMA.
-    pub peak_gflops_scalar: f64,
 }
 
-/// (name, flops per cycle and core) for an instruction set.
-fn isa(avx512: bool, avx: bool, fma: bool) -> (&'static str, f64) {
-    let lanes = if avx512 {
-        8.0
-    } else if avx {
-        4.0
-    } else {
-        2.0
-    };
-    let name = match (avx512, avx, fma) {
-        (true, _, _) => "AVX-512 + FMA (8 lanes, 2 FMA ports)",
-        (false, true, true) => "AVX2 + FMA (4 lanes, 2 FMA ports)",
-        (false, true, false) => "AVX (4 lanes, add + mul ports)",
-        _ => "SSE2 (2 lanes, add + mul ports, no FMA)",
-    };
-    let fma = if fma || avx512 { 2.0 } else { 1.0 };
-    (name, lanes * 2.0 * fma)
+/// (name, flops per cycle and core) of the CPU's widest unit, with FMA.
+fn best_isa(avx512: bool, avx: bool, fma: bool) -> (&'static str, f64) {
+    match (avx512, avx, fma) {
+        (true, _, _) => ("AVX-512 + FMA (8 lanes x 2 FMA ports x 2)", 32.0),
+        (false, true, true) => ("AVX2 + FMA (4 lanes x 2 FMA ports x 2)", 16.0),
+        (false, true, false) => ("AVX (4 lanes x add + mul ports)", 8.0),
+        _ => ("SSE2 (2 lanes x add + mul ports)", 4.0),
+    }
 }
 
 impl Machine {
@@ -167,15 +158,12 @@ impl Machine {
         let ghz = if mhz > 0.0 { mhz / 1000.0 } else { f64::NAN };
         let flags = field("flags").into_iter().next().unwrap_or_default();
         let has = |f: &str| flags.split_whitespace().any(|x| x == f);
-        let (isa_in_use, in_use) = isa(
-            cfg!(target_feature = "avx512f"),
-            cfg!(target_feature = "avx"),
-            cfg!(target_feature = "fma"),
-        );
-        let (isa_best, best) = isa(has("avx512f"), has("avx"), has("fma"));
+        let (name, lanes) = solver::pair_loop_isa();
+        let in_use = 2.0 * f64::from(lanes);
+        let isa_in_use = format!("{name} ({lanes} lanes x 2 ports, no FMA)");
+        let (isa_best, best) = best_isa(has("avx512f"), has("avx"), has("fma"));
         let cores = cores();
         let peak = |f: f64| cores as f64 * ghz * f;
-        let scalar = if has("fma") { 4.0 } else { 2.0 };
         Machine {
             cpu,
             cores,
@@ -186,7 +174,6 @@ impl Machine {
             isa_best,
             flops_per_cycle_best: best,
             peak_gflops_best: peak(best),
-            peak_gflops_scalar: peak(scalar),
         }
     }
 }
@@ -419,8 +406,8 @@ pub fn table(r: &Report) -> String {
         m.cpu, m.cores, m.ghz
     ));
     out.push_str(&format!(
-        "peak (cores x GHz x DP flops/cycle): built for {}: {} flops/cycle -> {:.1} GFLOP/s; \
-         CPU's best, {}: {} -> {:.1} GFLOP/s\n",
+        "peak = cores x GHz x DP flops/cycle/core. In use (pair loops): {}: {} -> {:.1} GFLOP/s; \
+         the CPU's best, {}: {} -> {:.1} GFLOP/s\n",
         m.isa_in_use,
         m.flops_per_cycle_in_use,
         m.peak_gflops_in_use,

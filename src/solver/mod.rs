@@ -41,6 +41,12 @@ pub fn pass_flops_per_pair(problem: &Problem) -> u32 {
         }
 }
 
+/// The vector instructions the pair loops run with on this CPU (chosen at
+/// run time; the results are the same bits with any): name and f64 lanes.
+pub fn pair_loop_isa() -> (&'static str, u32) {
+    step::Isa::detect().describe()
+}
+
 /// Receives progress from a running simulation.
 pub trait Observer: Send {
     /// After every step.

@@ -44,6 +44,20 @@ pub struct NeighbourList {
     pub rebuilds: u64,
 }
 
+/// Lists are padded to a multiple of this many entries (with
+/// [`Entry::padding`]) so the pair loops run in whole groups of lanes.
+pub const LANES: usize = 8;
+
+/// The x offset of the padding entries' image: far out of any support, yet
+/// its square and its products with zero are finite.
+pub const FAR: f64 = 1e100;
+
+/// `n` rounded up to whole groups of [`LANES`].
+#[inline(always)]
+pub fn padded(n: usize) -> usize {
+    n.div_ceil(LANES) * LANES
+}
+
 /// A listed neighbour j of i: its index, and the image it was found through
 /// as a code 0, 1, 2 for the offset -W, 0, +W added to x_i - x_j.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,6 +72,14 @@ impl Entry {
     #[inline(always)]
     pub fn pack(j: usize, shift: i8) -> u32 {
         j as u32 | (((shift + 1) as u32) << Self::IMAGE_SHIFT)
+    }
+
+    /// A padding entry: particle i itself seen through image code 3, whose
+    /// offset is so far ([`FAR`]) that the pair is out of every kernel's
+    /// support: W = 0, (dW/dq)/q = 0, and so every force term 0.
+    #[inline(always)]
+    pub fn padding(i: usize) -> u32 {
+        i as u32 | (3 << Self::IMAGE_SHIFT)
     }
 
     #[inline(always)]
@@ -131,6 +153,13 @@ impl NeighbourList {
         &self.entries[start..start + self.count[i] as usize]
     }
 
+    /// The same, padded with [`Entry::padding`] to whole groups of [`LANES`].
+    #[inline]
+    pub fn of_padded(&self, i: usize) -> &[u32] {
+        let start = i * self.stride;
+        &self.entries[start..start + padded(self.count[i] as usize)]
+    }
+
     /// The x offset to add to x_i - x_j for each image code
     /// ([`Entry::image`]).
     #[inline]
@@ -177,7 +206,7 @@ impl NeighbourList {
             "at most {} particles",
             Entry::MAX_PARTICLES
         );
-        self.images = [-width, 0.0, width, 0.0];
+        self.images = [-width, 0.0, width, FAR];
         self.find_near_blocks(y, cutoff, block);
         let ymin = self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
@@ -210,7 +239,7 @@ impl NeighbourList {
         // list outgrew it (always at the first build).
         let mut count = std::mem::take(&mut self.count);
         count.resize(n, 0);
-        let mut stride = self.stride.max(1);
+        let mut stride = self.stride.max(LANES);
         loop {
             self.entries.resize(n * stride, 0);
             let longest = self
@@ -223,7 +252,7 @@ impl NeighbourList {
                     found.clear();
                     visit(i, &mut |j, s, r2| found.push((r2, j, s)));
                     *c = found.len() as u32;
-                    if found.len() <= stride {
+                    if padded(found.len()) <= stride {
                         // Nearest first: the kernels' piece tests then come
                         // in runs, which branch prediction follows, for as
                         // long as the list lives (particles move less than
@@ -233,16 +262,19 @@ impl NeighbourList {
                         for (slot, &(_, j, s)) in entries.iter_mut().zip(found.iter()) {
                             *slot = Entry::pack(j as usize, s);
                         }
+                        for slot in &mut entries[found.len()..padded(found.len())] {
+                            *slot = Entry::padding(i);
+                        }
                     }
                     found.len()
                 })
                 .max()
                 .unwrap_or(0);
-            if longest <= stride {
+            if padded(longest) <= stride {
                 break;
             }
             // Room for a little compaction before the next overflow.
-            stride = longest + 2;
+            stride = padded(longest + 2);
         }
         self.stride = stride;
         self.count = count;

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::lattice::Lattice;
-use super::neighbours::{Displacements, Entry, NeighbourList};
+use super::neighbours::{Displacements, Entry, NeighbourList, LANES};
 use crate::kernel::Kernel;
 use crate::scene::{Initial, PressureForm, Problem};
 
@@ -40,14 +40,11 @@ pub(crate) struct State {
     pub y0: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
-    /// What the density pass leaves for the force pass, per fluid particle:
-    /// its neighbours within the support now (neighbour-list entries) and
-    /// their (dW/dq)/q, so the kernel is evaluated once per pair and step
-    /// and the force pass has neither a distance test nor a kernel branch.
-    /// `near_stride` slots per particle, as the neighbour list.
-    pub near: Vec<u32>,
+    /// What the density pass leaves for the force pass: (dW/dq)/q of every
+    /// listed pair (0 beyond the support and for padding), in the neighbour
+    /// list's slots (`near_stride` per particle), so the kernel is evaluated
+    /// once per pair and step and the force pass has no distance test.
     pub near_g: Vec<f64>,
-    pub near_count: Vec<u32>,
     pub near_stride: usize,
 }
 
@@ -87,9 +84,7 @@ impl State {
             x,
             y,
             layer,
-            near: Vec::new(),
             near_g: Vec::new(),
-            near_count: vec![0; n_fluid],
             near_stride: 0,
         }
     }
@@ -116,8 +111,7 @@ impl State {
         .map(|v| v.capacity())
         .sum::<usize>();
         (f64s + self.near_g.capacity()) * size_of::<f64>()
-            + (self.layer.capacity() + self.near.capacity() + self.near_count.capacity())
-                * size_of::<u32>()
+            + self.layer.capacity() * size_of::<u32>()
     }
 
     /// Wrap the fluid into the strip and take the current positions as the
@@ -272,114 +266,218 @@ pub(crate) fn kick_drift(
         });
 }
 
-/// Floating-point operations per pair in the density pass's loop, the
+/// Floating-point operations per pair in the density pass's loops, the
 /// kernel's (W, (dW/dq)/q) aside: dx with its image, dy (3), q^2 (4), the
-/// support test (1), the sum (1).
-pub(crate) const DENSITY_PAIR_FLOPS: u32 = 9;
+/// sum (1).
+pub(crate) const DENSITY_PAIR_FLOPS: u32 = 8;
+
+/// Entries a pair loop takes at a time, in buffers on the stack (a whole
+/// number of lane groups; a list longer than this takes several).
+const BLOCK: usize = 8 * LANES;
+
+/// Two buffers of a block's entries, made once per parallel task (zeroing
+/// them per particle would cost more than some particles' pairs).
+type Scratch = ([f64; BLOCK], [f64; BLOCK]);
+
+/// The pairwise sum of the lane accumulators, in a fixed order.
+#[inline(always)]
+fn lane_sum(a: [f64; LANES]) -> f64 {
+    ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
+}
+
+/// The vector instructions the pair loops are compiled for, chosen at run
+/// time. Each is the same source, the same operations in the same order:
+/// the results are the same bits on every CPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Isa {
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    Base,
+}
+
+impl Isa {
+    /// Name and f64 lanes per vector register.
+    pub(crate) fn describe(self) -> (&'static str, u32) {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => ("AVX-512", 8),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => ("AVX2", 4),
+            Isa::Base => ("baseline (SSE2 on x86-64)", 2),
+        }
+    }
+
+    pub(crate) fn detect() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Base
+    }
+}
+
+/// [`pair_w`] for AVX-512 (8 lanes).
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn pair_w_avx512<K: Kernel>(
+    xi: f64,
+    yi: f64,
+    entries: &[u32],
+    x: &[f64],
+    y: &[f64],
+    images: &[f64; 4],
+    inv_h2: f64,
+    g_out: &mut [f64],
+    scratch: &mut Scratch,
+) -> f64 {
+    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+}
+
+/// [`pair_w`] for AVX2 (4 lanes).
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn pair_w_avx2<K: Kernel>(
+    xi: f64,
+    yi: f64,
+    entries: &[u32],
+    x: &[f64],
+    y: &[f64],
+    images: &[f64; 4],
+    inv_h2: f64,
+    g_out: &mut [f64],
+    scratch: &mut Scratch,
+) -> f64 {
+    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+}
+
+/// Sum of W over a particle's padded list, and (dW/dq)/q of each entry into
+/// `g_out`. Three loops without branches or bounds checks, so that they
+/// vectorise: distances (a gather), the kernel (all pieces, then a select),
+/// and the sum in LANES accumulators (a fixed order: the result does not
+/// depend on how the loops are compiled).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pair_w<K: Kernel>(
+    xi: f64,
+    yi: f64,
+    entries: &[u32],
+    x: &[f64],
+    y: &[f64],
+    images: &[f64; 4],
+    inv_h2: f64,
+    g_out: &mut [f64],
+    scratch: &mut Scratch,
+) -> f64 {
+    let n = x.len();
+    assert!(n > 0 && y.len() == n);
+    // Every index is clamped into the arrays: no bounds check (an index
+    // is below n by construction of the list anyway).
+    let last = n - 1;
+    let mut acc = [0.0; LANES];
+    let (q2, w) = (&mut scratch.0, &mut scratch.1);
+    for (block, g_block) in entries.chunks(BLOCK).zip(g_out.chunks_mut(BLOCK)) {
+        let m = block.len();
+        for (q2, &e) in q2[..m].iter_mut().zip(block) {
+            let j = Entry::index(e).min(last);
+            let dx = xi - x[j] + images[Entry::image(e)];
+            let dy = yi - y[j];
+            *q2 = (dx * dx + dy * dy) * inv_h2;
+        }
+        for ((&q2, w), g) in q2[..m].iter().zip(&mut w[..m]).zip(g_block.iter_mut()) {
+            (*w, *g) = K::w_dw_over_q(q2);
+        }
+        for c in w[..m].chunks_exact(LANES) {
+            for l in 0..LANES {
+                acc[l] += c[l];
+            }
+        }
+    }
+    lane_sum(acc)
+}
 
 /// Density by summation (11) over fluid and wall neighbours, self included,
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
-/// fluid. For the fluid it also keeps, per particle, the neighbours within
-/// the support and their (dW/dq)/q for [`forces`]: W and (dW/dq)/q come from
-/// one fused evaluation.
+/// fluid. W and (dW/dq)/q come from one fused evaluation per pair; the
+/// latter is kept for [`forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
+    density_with::<K>(s, list, prm, Isa::detect())
+}
+
+fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, isa: Isa) -> f64 {
     let n = s.x.len();
     let nf = s.n_fluid;
     // Room for the longest list: grows only when a rebuild lengthened it.
-    let stride = list.stride().max(1);
+    let stride = list.stride();
     if s.near_stride != stride {
         s.near_stride = stride;
-        s.near.resize(nf * stride, 0);
-        s.near_g.resize(nf * stride, 0.0);
+        s.near_g.resize(n * stride, 0.0);
     }
-    // Slices of one known length: one bounds check per neighbour covers all.
     let (x, y) = (&s.x[..n], &s.y[..n]);
     let images = list.images();
     let w_self = K::w(0.0);
-    let eos = |k: usize,
-               sum: f64,
-               rho: &mut [f64],
-               press: &mut [f64],
-               vol: &mut [f64],
-               p_rho2: &mut [f64]| {
-        let r = prm.mass_over_h2 * sum;
-        let p = prm.pressure(r);
-        rho[k] = r;
-        press[k] = p;
-        vol[k] = prm.mass / r;
-        p_rho2[k] = p / (r * r);
-        r
-    };
-    // The fluid: W and (dW/dq)/q together, the pairs in reach kept.
-    let fluid = (
-        s.rho[..nf].par_chunks_mut(CHUNK),
-        s.press[..nf].par_chunks_mut(CHUNK),
-        s.vol[..nf].par_chunks_mut(CHUNK),
-        s.p_rho2[..nf].par_chunks_mut(CHUNK),
-        s.near.par_chunks_mut(CHUNK * stride),
+    (
+        s.rho.par_chunks_mut(CHUNK),
+        s.press.par_chunks_mut(CHUNK),
+        s.vol.par_chunks_mut(CHUNK),
+        s.p_rho2.par_chunks_mut(CHUNK),
         s.near_g.par_chunks_mut(CHUNK * stride),
-        s.near_count.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, (rho, press, vol, p_rho2, near, near_g, near_count))| {
+        .map(|(c, (rho, press, vol, p_rho2, near_g))| {
+            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
             let mut max_eps = f64::NEG_INFINITY;
-            for (k, (near, near_g)) in near
-                .chunks_exact_mut(stride)
-                .zip(near_g.chunks_exact_mut(stride))
-                .enumerate()
-            {
+            for (k, g_out) in near_g.chunks_exact_mut(stride).enumerate() {
                 let i = c * CHUNK + k;
-                let (xi, yi) = (x[i], y[i]);
-                let mut sum = w_self;
-                let mut kept = 0;
-                for &e in list.of(i) {
-                    let j = Entry::index(e);
-                    let dx = xi - x[j] + images[Entry::image(e)];
-                    let dy = yi - y[j];
-                    let q2 = (dx * dx + dy * dy) * prm.inv_h2;
-                    if q2 <= K::SUPPORT2_CLOSED {
-                        let (w, g) = K::w_dw_over_q(q2);
-                        sum += w;
-                        near[kept] = e;
-                        near_g[kept] = g;
-                        kept += 1;
+                let entries = list.of_padded(i);
+                let g_out = &mut g_out[..entries.len()];
+                let (xi, yi, inv_h2) = (x[i], y[i], prm.inv_h2);
+                let pairs = match isa {
+                    // SAFETY: Isa::detect found the CPU features.
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx512 => unsafe {
+                        pair_w_avx512::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
+                    },
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx2 => unsafe {
+                        pair_w_avx2::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
+                    },
+                    Isa::Base => {
+                        pair_w::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
                     }
+                };
+                let sum = w_self + pairs;
+                let r = prm.mass_over_h2 * sum;
+                let p = prm.pressure(r);
+                rho[k] = r;
+                press[k] = p;
+                vol[k] = prm.mass / r;
+                p_rho2[k] = p / (r * r);
+                if i < nf {
+                    max_eps = max_eps.max(r / prm.rho0 - 1.0);
                 }
-                near_count[k] = kept as u32;
-                let r = eos(k, sum, rho, press, vol, p_rho2);
-                max_eps = max_eps.max(r / prm.rho0 - 1.0);
             }
             max_eps
         })
-        .reduce(|| f64::NEG_INFINITY, f64::max);
-    // The walls: W only.
-    (
-        s.rho[nf..].par_chunks_mut(CHUNK),
-        s.press[nf..].par_chunks_mut(CHUNK),
-        s.vol[nf..].par_chunks_mut(CHUNK),
-        s.p_rho2[nf..].par_chunks_mut(CHUNK),
-    )
-        .into_par_iter()
-        .enumerate()
-        .for_each(|(c, (rho, press, vol, p_rho2))| {
-            for k in 0..rho.len() {
-                let i = nf + c * CHUNK + k;
-                let (xi, yi) = (x[i], y[i]);
-                let mut sum = w_self;
-                for &e in list.of(i) {
-                    let j = Entry::index(e);
-                    let dx = xi - x[j] + images[Entry::image(e)];
-                    let dy = yi - y[j];
-                    let q2 = (dx * dx + dy * dy) * prm.inv_h2;
-                    if q2 <= K::SUPPORT2_CLOSED {
-                        sum += K::w(q2);
-                    }
-                }
-                eos(k, sum, rho, press, vol, p_rho2);
-            }
-        });
-    fluid
+        .reduce(|| f64::NEG_INFINITY, f64::max)
 }
 
 /// What the force pass saw at the end of the step.
@@ -409,15 +507,108 @@ impl Forces {
 }
 
 /// Floating-point operations per pair in the force pass's loop (the kernel
-/// was evaluated in the density pass): dx with its image, dy (3); pressure
-/// p_ij, p_ij g, two products and sums (6); v_ij (2), the Laplacian's
-/// vol_j g and two products and sums (5). With artificial viscosity also
-/// r^2 (3), v_ij . r_ij (3), min, division, product and two sums (7).
-pub(crate) const FORCE_PAIR_FLOPS: u32 = 16;
+/// was evaluated in the density pass): dx with its image, dy (3), p_ij (1),
+/// v_ij (2), the pressure and Laplacian terms of both components, scaled per
+/// particle, summed and times (dW/dq)/q (10), the two lane sums (2). With
+/// artificial viscosity also r^2 (3), v_ij . r_ij (3), its min, division and
+/// scale (3), its two terms (4).
+pub(crate) const FORCE_PAIR_FLOPS: u32 = 18;
 pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
 
+/// The particle-level factors of the force terms.
+#[derive(Clone, Copy)]
+struct Scales {
+    /// m / rho_i^2 (paper) or m (symmetric).
+    pressure: f64,
+    /// alpha c0 h m / rho_i.
+    av: f64,
+    /// 2 mu / rho_i.
+    visc: f64,
+}
+
+/// One particle's force inputs: i, its padded list and (dW/dq)/q, (x, y),
+/// (vx, vy) predicted, P or P/rho^2, m/rho, the image offsets, its scales.
+type ForceArgs<'a> = (
+    usize,
+    &'a [u32],
+    &'a [f64],
+    (&'a [f64], &'a [f64]),
+    (&'a [f64], &'a [f64]),
+    &'a [f64],
+    &'a [f64],
+    &'a [f64; 4],
+    Scales,
+);
+
+/// [`pair_forces`] for AVX-512.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn pair_forces_avx512<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
+    pair_forces::<AV>(args, scratch)
+}
+
+/// [`pair_forces`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn pair_forces_avx2<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
+    pair_forces::<AV>(args, scratch)
+}
+
+/// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
+/// loops without branches or bounds checks, as in [`pair_w`].
+#[inline(always)]
+fn pair_forces<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
+    let (i, entries, g, xs, vs, pq, vol, images, sc) = args;
+    let (x, y) = xs;
+    let (vpx, vpy) = vs;
+    let n = x.len();
+    assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
+    assert!(pq.len() == n && vol.len() == n);
+    let last = n - 1;
+    let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
+    let mut acc_x = [0.0; LANES];
+    let mut acc_y = [0.0; LANES];
+    let (cx, cy) = (&mut scratch.0, &mut scratch.1);
+    for (block, g_block) in entries.chunks(BLOCK).zip(g.chunks(BLOCK)) {
+        let m = block.len();
+        for (((cx, cy), &e), &g) in cx[..m].iter_mut().zip(&mut cy[..m]).zip(block).zip(g_block) {
+            let j = Entry::index(e).min(last);
+            // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
+            let dx = xi - x[j] + images[Entry::image(e)];
+            let dy = yi - y[j];
+            let p = sc.pressure * (pqi + pq[j]);
+            let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
+            let l = sc.visc * vol[j];
+            let (mut fx, mut fy) = (l * dvx - p * dx, l * dvy - p * dy);
+            if AV {
+                // Only approaching pairs (v_ij . r_ij < 0), branch-free.
+                let r2 = dx * dx + dy * dy;
+                let vr = dvx * dx + dvy * dy;
+                let a = sc.av * (vr.min(0.0) / r2);
+                fx += a * dx;
+                fy += a * dy;
+            }
+            *cx = fx * g;
+            *cy = fy * g;
+        }
+        for (a, b) in cx[..m].chunks_exact(LANES).zip(cy[..m].chunks_exact(LANES)) {
+            for l in 0..LANES {
+                acc_x[l] += a[l];
+                acc_y[l] += b[l];
+            }
+        }
+    }
+    (lane_sum(acc_x), lane_sum(acc_y))
+}
+
 /// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
-/// pairs [`density`] kept (within the support, with their (dW/dq)/q).
+/// listed pairs with the (dW/dq)/q that [`density`] left (0 out of reach).
 ///
 /// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
 ///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
@@ -427,11 +618,12 @@ pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
 ///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij;
 /// - the body force p along +x.
 pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+    let isa = Isa::detect();
     match (prm.symmetric, prm.av != 0.0) {
-        (true, true) => forces_with::<true, true>(s, list, prm, half_dt),
-        (true, false) => forces_with::<true, false>(s, list, prm, half_dt),
-        (false, true) => forces_with::<false, true>(s, list, prm, half_dt),
-        (false, false) => forces_with::<false, false>(s, list, prm, half_dt),
+        (true, true) => forces_with::<true, true>(s, list, prm, half_dt, isa),
+        (true, false) => forces_with::<true, false>(s, list, prm, half_dt, isa),
+        (false, true) => forces_with::<false, true>(s, list, prm, half_dt, isa),
+        (false, false) => forces_with::<false, false>(s, list, prm, half_dt, isa),
     }
 }
 
@@ -440,14 +632,19 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
     list: &NeighbourList,
     prm: &Params,
     half_dt: f64,
+    isa: Isa,
 ) -> Forces {
     let nf = s.n_fluid;
     let stride = s.near_stride;
-    // Slices of one known length: one bounds check per neighbour covers all.
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
-    let (rho, press, vol, p_rho2) = (&s.rho[..n], &s.press[..n], &s.vol[..n], &s.p_rho2[..n]);
-    let (near, near_g, near_count) = (&s.near, &s.near_g, &s.near_count);
+    let (rho, vol) = (&s.rho[..n], &s.vol[..n]);
+    let pq = if SYMMETRIC {
+        &s.p_rho2[..n]
+    } else {
+        &s.press[..n]
+    };
+    let near_g = &s.near_g;
     let images = list.images();
     (
         s.ax.par_chunks_mut(CHUNK),
@@ -458,53 +655,33 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
         .into_par_iter()
         .enumerate()
         .map(|(c, (ax, ay, vx, vy))| {
+            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
             let mut out = Forces::NONE;
             for k in 0..ax.len() {
                 let i = c * CHUNK + k;
-                let (xi, yi, vxi, vyi) = (x[i], y[i], vpx[i], vpy[i]);
-                let (pi, pri) = (press[i], p_rho2[i]);
-                let (mut px, mut py) = (0.0, 0.0);
-                let (mut avx, mut avy) = (0.0, 0.0);
-                let (mut lx, mut ly) = (0.0, 0.0);
-                let start = i * stride;
-                let end = start + near_count[i] as usize;
-                for (&e, &g) in near[start..end].iter().zip(&near_g[start..end]) {
-                    let j = Entry::index(e);
-                    // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
-                    let dx = xi - x[j] + images[Entry::image(e)];
-                    let dy = yi - y[j];
-                    let pij = if SYMMETRIC {
-                        pri + p_rho2[j]
-                    } else {
-                        pi + press[j]
-                    };
-                    let pg = pij * g;
-                    px += pg * dx;
-                    py += pg * dy;
-                    let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
-                    if AV {
-                        let r2 = dx * dx + dy * dy;
-                        let vr = dvx * dx + dvy * dy;
-                        // Only approaching pairs (v_ij . r_ij < 0); branch-free,
-                        // since the sign changes unpredictably from pair to pair.
-                        let f = vr.min(0.0) / r2 * g;
-                        avx += f * dx;
-                        avy += f * dy;
-                    }
-                    let f = vol[j] * g;
-                    lx += f * dvx;
-                    ly += f * dvy;
-                }
+                let entries = list.of_padded(i);
+                let g = &near_g[i * stride..i * stride + entries.len()];
                 let inv_rho = 1.0 / rho[i];
-                let p_scale = if SYMMETRIC {
-                    prm.mass
-                } else {
-                    prm.mass * inv_rho * inv_rho
+                let sc = Scales {
+                    pressure: if SYMMETRIC {
+                        prm.mass
+                    } else {
+                        prm.mass * inv_rho * inv_rho
+                    },
+                    av: prm.av * inv_rho,
+                    visc: prm.visc * inv_rho,
                 };
-                let av = prm.av * inv_rho;
-                let visc = prm.visc * inv_rho;
-                let axi = prm.grad_scale * (-p_scale * px + av * avx + visc * lx) + prm.body;
-                let ayi = prm.grad_scale * (-p_scale * py + av * avy + visc * ly);
+                let args = (i, entries, g, (x, y), (vpx, vpy), pq, vol, &images, sc);
+                let (fx, fy) = match isa {
+                    // SAFETY: Isa::detect found the CPU features.
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx512 => unsafe { pair_forces_avx512::<AV>(args, scratch) },
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx2 => unsafe { pair_forces_avx2::<AV>(args, scratch) },
+                    Isa::Base => pair_forces::<AV>(args, scratch),
+                };
+                let axi = prm.grad_scale * fx + prm.body;
+                let ayi = prm.grad_scale * fy;
                 ax[k] = axi;
                 ay[k] = ayi;
                 vx[k] += half_dt * axi;
@@ -520,4 +697,82 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
             out
         })
         .reduce(|| Forces::NONE, Forces::merge)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::Morris;
+
+    /// The pair loops give the same bits whatever instructions they were
+    /// compiled for: the vector builds only run the same operations in the
+    /// same order in lanes.
+    #[test]
+    fn pair_loops_give_the_same_bits_on_every_isa() {
+        let n = 200;
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect();
+        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect();
+        let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.123).sin()).collect();
+        let images = [-7.0, 0.0, 7.0, super::super::neighbours::FAR];
+        // 37 neighbours (two whole blocks and a part) and padding.
+        let mut entries: Vec<u32> = (1..38)
+            .map(|j| Entry::pack(j * 5 % n, (j % 3) as i8 - 1))
+            .collect();
+        entries.resize(40, Entry::padding(0));
+        let sc = Scales {
+            pressure: 0.7,
+            av: 0.3,
+            visc: 0.2,
+        };
+        let run = |isa: Isa| {
+            let mut g = vec![0.0; entries.len()];
+            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+            let (xi, yi) = (x[0], y[0]);
+            let w = match isa {
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx512 => unsafe {
+                    pair_w_avx512::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                },
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => unsafe {
+                    pair_w_avx2::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                },
+                Isa::Base => {
+                    pair_w::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                }
+            };
+            let args = (
+                0,
+                &entries[..],
+                &g[..],
+                (&x[..], &y[..]),
+                (&v[..], &v[..]),
+                &v[..],
+                &x[..],
+                &images,
+                sc,
+            );
+            let f = match isa {
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx512 => unsafe { pair_forces_avx512::<true>(args, scratch) },
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => unsafe { pair_forces_avx2::<true>(args, scratch) },
+                Isa::Base => pair_forces::<true>(args, scratch),
+            };
+            let mut bits: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
+            bits.extend([w.to_bits(), f.0.to_bits(), f.1.to_bits()]);
+            bits
+        };
+        let base = run(Isa::Base);
+        assert!(
+            f64::from_bits(base[base.len() - 3]) > 0.0,
+            "some pairs are in reach"
+        );
+        let detected = Isa::detect();
+        assert_eq!(run(detected), base, "{detected:?} against the base build");
+        #[cfg(target_arch = "x86_64")]
+        if detected == Isa::Avx512 {
+            assert_eq!(run(Isa::Avx2), base, "AVX2 against the base build");
+        }
+    }
 }
