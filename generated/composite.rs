@@ -64,6 +64,11 @@ impl Kernel for Composite {
             (0.0, 0.0)
         }
     }
+    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
+    #[inline(always)]
+    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
+        Self::w_dw_over_q(q2)
+    }
 }
 /// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
 /// row's particles at x = a + phase, a integer.

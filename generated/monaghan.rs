@@ -87,6 +87,47 @@ impl Kernel for Monaghan {
             (0.0, 0.0)
         }
     }
+    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
+    #[inline(always)]
+    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
+        let (b, b2, div, w0, w1, w2, w3, g0, g1, g2) = if q2 <= 1.0 {
+            (
+                1.0,
+                1.0,
+                false,
+                0.11368210220849667,
+                -0.34104630662549,
+                0.34104630662549,
+                0.34104630662549,
+                -0.34104630662549,
+                1.02313891987647,
+                0.0,
+            )
+        } else if q2 <= Self::SUPPORT2_CLOSED {
+            (
+                2.0,
+                4.0,
+                true,
+                0.0,
+                0.0,
+                0.0,
+                -0.11368210220849667,
+                0.0,
+                0.0,
+                -0.34104630662549,
+            )
+        } else {
+            (2.0, 4.0, false, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        };
+        let q = q2.sqrt().max(f64::MIN_POSITIVE);
+        let qb = q + b;
+        let t = 1.0 / (q * qb);
+        let s = (q2 - b2) * q * t;
+        (
+            ((w3 * s + w2) * s + w1) * s + w0,
+            ((g2 * s + g1) * s + g0) * if div { qb * t } else { 1.0 },
+        )
+    }
 }
 /// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
 /// row's particles at x = a + phase, a integer.
@@ -513,5 +554,5 @@ pub const INFO: KernelInfo = KernelInfo {
         half_period: "0.001984",
         mean: "-0.001275",
     }),
-    flops_per_pair: 16u32,
+    flops_per_pair: 22u32,
 };

@@ -31,6 +31,11 @@ pub trait Kernel: Copy + Send + Sync + Default + 'static {
     /// pieces' branch, the square root and the shifted variable (and the one
     /// division of an outer piece) are shared.
     fn w_dw_over_q(q2: f64) -> (f64, f64);
+    /// The same without branches, for pair loops that run in vector lanes:
+    /// every piece in one form (one square root and one division per pair
+    /// whatever the piece, none for a kernel even in q), its constants
+    /// selected by q^2. As accurate; (0, 0) beyond the support.
+    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64);
 }
 
 /// A number the generator derived: its f64 value (correctly rounded) and its
@@ -155,9 +160,9 @@ pub struct KernelInfo {
     /// precision), when the kernel is one of the paper's.
     pub printed_eps: Option<PrintedEps>,
     /// Floating-point operations per pair evaluation of (w, dw_over_q)
-    /// together (`Kernel::w_dw_over_q`, the costliest branch, square root and
-    /// division counted as one each, the piece tests included), as counted by
-    /// the generator in the emitted code.
+    /// together as the solver's pair loops run it (`Kernel::w_dw_over_q_lanes`:
+    /// square root and division counted as one each, the piece tests
+    /// included), as counted by the generator in the emitted code.
     pub flops_per_pair: u32,
 }
 

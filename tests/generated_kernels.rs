@@ -10,7 +10,7 @@ use shearsph_codegen::kernel::{load_dir, KernelDef};
 use shearsph_codegen::rug::{Float, Rational};
 use std::path::Path;
 
-type Fns = [(&'static str, fn(f64) -> f64); 5];
+type Fns = [(&'static str, fn(f64) -> f64); 7];
 
 struct Functions;
 impl KernelVisitor for Functions {
@@ -23,6 +23,9 @@ impl KernelVisitor for Functions {
             // the solver's fused evaluation, part by part
             ("w (fused)", |q2| K::w_dw_over_q(q2).0),
             ("dw_over_q (fused)", |q2| K::w_dw_over_q(q2).1),
+            // and its form without branches, for vector lanes
+            ("w (lanes)", |q2| K::w_dw_over_q_lanes(q2).0),
+            ("dw_over_q (lanes)", |q2| K::w_dw_over_q_lanes(q2).1),
         ]
     }
 }
@@ -37,7 +40,7 @@ fn defs() -> Vec<KernelDef> {
 fn exact(w: &FloatRadial, dw: &FloatRadial, which: &str, q2: f64) -> Float {
     let q2f = Float::with_val(200, q2);
     match which {
-        "w" | "w (fused)" => w.eval(&q2f),
+        "w" | "w (fused)" | "w (lanes)" => w.eval(&q2f),
         "dw" => dw.eval(&q2f),
         _ => dw.eval(&q2f) / q2f.sqrt(),
     }

@@ -330,6 +330,165 @@ fn fused(w: &Radial, dw: &Radial) -> (TokenStream, u32) {
     )
 }
 
+/// `((c_n * v + c_{n-1}) * v + ...) + c_0` over variables named `c0..cn`:
+/// the coefficients are chosen per pair, so none is known to be zero.
+fn horner_vars(var: &TokenStream, prefix: &str, n: usize) -> TokenStream {
+    let c = |k: usize| {
+        let id = format_ident!("{prefix}{k}");
+        quote!(#id)
+    };
+    let mut acc = c(n - 1);
+    for k in (0..n - 1).rev() {
+        let ck = c(k);
+        acc = if k + 2 == n {
+            quote!(#acc * #var + #ck)
+        } else {
+            quote!((#acc) * #var + #ck)
+        };
+    }
+    acc
+}
+
+/// (W, (dW/dq)/q) without branches, for loops that evaluate many pairs in
+/// vector lanes: every piece in one form, its constants selected by q^2 (a
+/// select, not a branch), one Horner each. The form: s = q - b as (q^2 - b^2)
+/// q t with t = 1/(q (q + b)), which keeps the vanishing forms' accuracy and
+/// gives 1/q = (q + b) t for the pieces that divide by q: one square root and
+/// one division per pair whatever the piece. When every piece is even in q,
+/// u = q^2 - b^2 instead, with neither. Beyond the support every constant is
+/// 0. None when W's and W''s pieces do not share their joints, or when there
+/// is one piece (the fused function has no branch to remove then, and its
+/// forms are cheaper).
+fn lanes(w: &Radial, dw: &Radial) -> Option<(TokenStream, u32)> {
+    let same_joints = w.pieces.len() == dw.pieces.len()
+        && w.pieces.iter().zip(&dw.pieces).all(|(a, b)| a.to == b.to);
+    if !same_joints || w.pieces.len() < 2 {
+        return None;
+    }
+    let exact_div = |p: &Piece| p.poly.coef.first().is_none_or(|c| c.is_zero());
+    let g_poly = |p: &Piece| {
+        if exact_div(p) {
+            div_q(&p.poly)
+        } else {
+            p.poly.clone()
+        }
+    };
+    let all_even = w.pieces.iter().all(|p| p.poly.is_even())
+        && dw
+            .pieces
+            .iter()
+            .all(|p| exact_div(p) && g_poly(p).is_even());
+    // Coefficients of each piece in its shifted variable, as f64.
+    let coefs = |poly: &Poly, b: &Rational| -> Vec<f64> {
+        let shifted = if all_even {
+            shift_q2(poly, b)
+        } else {
+            shift_q(poly, b)
+        };
+        let mut c: Vec<f64> = shifted.coef.iter().map(|c| c.to_f64()).collect();
+        if all_even {
+            // u-polynomial: the even coefficients only
+            c = c.into_iter().step_by(2).collect();
+        }
+        if c.is_empty() {
+            c.push(0.0);
+        }
+        c
+    };
+    let pieces: Vec<(Rational, Vec<f64>, Vec<f64>, bool)> = w
+        .pieces
+        .iter()
+        .zip(&dw.pieces)
+        .map(|(pw, pd)| {
+            let b = pw.to.clone();
+            (
+                b.clone(),
+                coefs(&pw.poly, &b),
+                coefs(&g_poly(pd), &b),
+                !exact_div(pd),
+            )
+        })
+        .collect();
+    let nw = pieces.iter().map(|p| p.1.len()).max().unwrap_or(1);
+    let ng = pieces.iter().map(|p| p.2.len()).max().unwrap_or(1);
+    let divides = pieces.iter().any(|p| p.3);
+    let names = |prefix: &str, n: usize| -> Vec<proc_macro2::Ident> {
+        (0..n).map(|k| format_ident!("{prefix}{k}")).collect()
+    };
+    let (wn, gn) = (names("w", nw), names("g", ng));
+    let tuple = |b: f64, b2: f64, cw: &[f64], cg: &[f64], div: bool| {
+        let (b, b2) = (lit(b), lit(b2));
+        let cw = (0..nw).map(|k| lit(cw.get(k).copied().unwrap_or(0.0)));
+        let cg = (0..ng).map(|k| lit(cg.get(k).copied().unwrap_or(0.0)));
+        if divides {
+            quote!((#b, #b2, #div, #(#cw,)* #(#cg),*))
+        } else {
+            quote!((#b, #b2, #(#cw,)* #(#cg),*))
+        }
+    };
+    let n = pieces.len();
+    let mut branches = Vec::new();
+    for (i, (b, cw, cg, div)) in pieces.iter().enumerate() {
+        let b2 = Rational::from(b * b).to_f64();
+        let t = tuple(Exact::rational(b.clone()).to_f64(), b2, cw, cg, *div);
+        let bound = if i + 1 == n {
+            quote!(Self::SUPPORT2_CLOSED)
+        } else {
+            let b2 = lit(b2);
+            quote!(#b2)
+        };
+        branches.push(quote! { if q2 <= #bound { #t } });
+    }
+    // beyond the support: W = 0 and W' = 0 (b any finite value)
+    let last_b = pieces.last().map(|p| p.0.clone()).unwrap_or_default();
+    let outside = tuple(
+        Exact::rational(last_b.clone()).to_f64(),
+        Rational::from(&last_b * &last_b).to_f64(),
+        &[],
+        &[],
+        false,
+    );
+    let pattern = if divides {
+        quote!((b, b2, div, #(#wn,)* #(#gn),*))
+    } else {
+        quote!((b, b2, #(#wn,)* #(#gn),*))
+    };
+    let select = quote! { let #pattern = #(#branches else)* { #outside }; };
+    let mut flops = n as u32 + 2 * (nw as u32 - 1) + 2 * (ng as u32 - 1);
+    let body = if all_even {
+        let hw = horner_vars(&quote!(u), "w", nw);
+        let hg = horner_vars(&quote!(u), "g", ng);
+        flops += 1;
+        quote! {
+            #select
+            let _ = b;
+            let u = q2 - b2;
+            (#hw, #hg)
+        }
+    } else {
+        let hw = horner_vars(&quote!(s), "w", nw);
+        let hg = horner_vars(&quote!(s), "g", ng);
+        // sqrt, max, q + b, q (q + b), 1/.., (q2 - b2) q t
+        flops += 8;
+        let g = if divides {
+            flops += 2;
+            quote! { (#hg) * if div { qb * t } else { 1.0 } }
+        } else {
+            hg
+        };
+        quote! {
+            #select
+            // q > 0, so that a pair at q = 0 (W finite there) takes s = -b
+            let q = q2.sqrt().max(f64::MIN_POSITIVE);
+            let qb = q + b;
+            let t = 1.0 / (q * qb);
+            let s = (q2 - b2) * q * t;
+            (#hw, #g)
+        }
+    };
+    Some((body, flops))
+}
+
 #[derive(Clone, Copy)]
 enum Which {
     W,
@@ -406,8 +565,10 @@ pub fn kernel_module(a: &Analysis) -> String {
     let (w_body, _) = piecewise(&d.w, Which::W);
     let (dw_body, _) = piecewise(&d.dw, Which::Dw);
     let (dwq_body, _) = piecewise(&d.dw, Which::DwOverQ);
-    // the solver evaluates W and (dW/dq)/q of a pair together
-    let (fused_body, flops) = fused(&d.w, &d.dw);
+    // the solver evaluates W and (dW/dq)/q of a pair together, in lanes
+    let (fused_body, fused_flops) = fused(&d.w, &d.dw);
+    let (lanes_body, flops) =
+        lanes(&d.w, &d.dw).unwrap_or((quote!(Self::w_dw_over_q(q2)), fused_flops));
 
     let e = &a.eps;
     let (t0, half, max, t_max, min, t_min, mean) = (
@@ -529,6 +690,10 @@ pub fn kernel_module(a: &Analysis) -> String {
             #[doc = " (W, (dW/dq)/q) together: one branch, square root and shifted variable for both."]
             #[inline(always)]
             fn w_dw_over_q(q2: f64) -> (f64, f64) { #fused_body }
+
+            #[doc = " (W, (dW/dq)/q) without branches, for pair loops in vector lanes."]
+            #[inline(always)]
+            fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) { #lanes_body }
         }
 
         /// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the

@@ -402,7 +402,7 @@ fn pair_w<K: Kernel>(
             *q2 = (dx * dx + dy * dy) * inv_h2;
         }
         for ((&q2, w), g) in q2[..m].iter().zip(&mut w[..m]).zip(g_block.iter_mut()) {
-            (*w, *g) = K::w_dw_over_q(q2);
+            (*w, *g) = K::w_dw_over_q_lanes(q2);
         }
         for c in w[..m].chunks_exact(LANES) {
             for l in 0..LANES {
