@@ -36,14 +36,14 @@ pub struct Options {
 
 impl Options {
     /// About a minute on two cores: every kernel at 1e3, 1e4 and 1e5
-    /// particles, single-threaded and on all cores, three repeats of 2e6
+    /// particles, single-threaded and on all cores, three repeats of 4e6
     /// particle-steps each.
     pub fn defaults() -> Options {
         Options {
             kernels: kernels::NAMES.iter().map(|s| s.to_string()).collect(),
             particles: vec![1_000, 10_000, 100_000],
             steps: None,
-            particle_steps: 2e6,
+            particle_steps: 4e6,
             repeats: 3,
             threads: thread_counts(),
         }

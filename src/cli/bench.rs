@@ -20,7 +20,7 @@ pub struct BenchArgs {
     /// at least this many, walls included), comma-separated; 1e4 is accepted.
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
     pub particles: Vec<usize>,
-    /// Steps per measurement (default: about 2e6 particle-steps, at least 10).
+    /// Steps per measurement (default: about 4e6 particle-steps, at least 10).
     #[arg(long)]
     pub steps: Option<u64>,
     /// Repeats per measurement; the median is reported.
