@@ -326,10 +326,12 @@ impl Isa {
     }
 }
 
-/// [`pair_w`] for AVX-512 (8 lanes).
+/// [`pair_w`] for AVX-512 (8 lanes), alone: the passes call it through
+/// [`density_chunk_avx512`]; the test that compares ISAs calls it directly.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
 #[allow(clippy::too_many_arguments)]
@@ -351,6 +353,7 @@ unsafe fn pair_w_avx512<K: Kernel>(
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
@@ -430,9 +433,15 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
         s.near_stride = stride;
         s.near_g.resize(n * stride, 0.0);
     }
-    let (x, y) = (&s.x[..n], &s.y[..n]);
-    let images = list.images();
-    let w_self = K::w(0.0);
+    let inp = DensityIn {
+        x: &s.x[..n],
+        y: &s.y[..n],
+        list,
+        images: list.images(),
+        prm,
+        nf,
+        stride,
+    };
     (
         s.rho.par_chunks_mut(CHUNK),
         s.press.par_chunks_mut(CHUNK),
@@ -442,42 +451,94 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, (rho, press, vol, p_rho2, near_g))| {
-            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let mut max_eps = f64::NEG_INFINITY;
-            for (k, g_out) in near_g.chunks_exact_mut(stride).enumerate() {
-                let i = c * CHUNK + k;
-                let entries = list.of_padded(i);
-                let g_out = &mut g_out[..entries.len()];
-                let (xi, yi, inv_h2) = (x[i], y[i], prm.inv_h2);
-                let pairs = match isa {
-                    // SAFETY: Isa::detect found the CPU features.
-                    #[cfg(target_arch = "x86_64")]
-                    Isa::Avx512 => unsafe {
-                        pair_w_avx512::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
-                    },
-                    #[cfg(target_arch = "x86_64")]
-                    Isa::Avx2 => unsafe {
-                        pair_w_avx2::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
-                    },
-                    Isa::Base => {
-                        pair_w::<K>(xi, yi, entries, x, y, &images, inv_h2, g_out, scratch)
-                    }
-                };
-                let sum = w_self + pairs;
-                let r = prm.mass_over_h2 * sum;
-                let p = prm.pressure(r);
-                rho[k] = r;
-                press[k] = p;
-                vol[k] = prm.mass / r;
-                p_rho2[k] = p / (r * r);
-                if i < nf {
-                    max_eps = max_eps.max(r / prm.rho0 - 1.0);
-                }
-            }
-            max_eps
+        .map(|(c, out)| match isa {
+            // SAFETY: Isa::detect found the CPU features.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp) },
+            Isa::Base => density_chunk::<K>(c, out, &inp),
         })
         .reduce(|| f64::NEG_INFINITY, f64::max)
+}
+
+/// What every task of the density pass reads.
+struct DensityIn<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    list: &'a NeighbourList,
+    images: [f64; 4],
+    prm: &'a Params,
+    nf: usize,
+    stride: usize,
+}
+
+/// One task's outputs: rho, P, m/rho, P/rho^2 and the (dW/dq)/q slots.
+type DensityOut<'a> = (
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+);
+
+/// [`density_chunk`] for AVX-512: one call per task, so that the vector
+/// code's set-up is paid per task, not per particle.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn density_chunk_avx512<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
+    density_chunk::<K>(c, out, inp)
+}
+
+/// [`density_chunk`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn density_chunk_avx2<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
+    density_chunk::<K>(c, out, inp)
+}
+
+/// Density, EOS and the pairs' (dW/dq)/q for the particles of task `c`;
+/// returns their largest fluid compaction.
+#[inline(always)]
+fn density_chunk<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
+    let (rho, press, vol, p_rho2, near_g) = out;
+    let (x, y, prm) = (inp.x, inp.y, inp.prm);
+    let w_self = K::w(0.0);
+    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+    let mut max_eps = f64::NEG_INFINITY;
+    for (k, g_out) in near_g.chunks_exact_mut(inp.stride).enumerate() {
+        let i = c * CHUNK + k;
+        let entries = inp.list.of_padded(i);
+        let g_out = &mut g_out[..entries.len()];
+        let pairs = pair_w::<K>(
+            x[i],
+            y[i],
+            entries,
+            x,
+            y,
+            &inp.images,
+            prm.inv_h2,
+            g_out,
+            scratch,
+        );
+        let sum = w_self + pairs;
+        let r = prm.mass_over_h2 * sum;
+        let p = prm.pressure(r);
+        rho[k] = r;
+        press[k] = p;
+        vol[k] = prm.mass / r;
+        p_rho2[k] = p / (r * r);
+        if i < inp.nf {
+            max_eps = max_eps.max(r / prm.rho0 - 1.0);
+        }
+    }
+    max_eps
 }
 
 /// What the force pass saw at the end of the step.
@@ -544,6 +605,7 @@ type ForceArgs<'a> = (
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
 unsafe fn pair_forces_avx512<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
@@ -554,6 +616,7 @@ unsafe fn pair_forces_avx512<const AV: bool>(args: ForceArgs, scratch: &mut Scra
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn pair_forces_avx2<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
@@ -644,8 +707,21 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
     } else {
         &s.press[..n]
     };
-    let near_g = &s.near_g;
-    let images = list.images();
+    let inp = ForcesIn {
+        x,
+        y,
+        vpx,
+        vpy,
+        rho,
+        vol,
+        pq,
+        near_g: &s.near_g,
+        list,
+        images: list.images(),
+        prm,
+        stride,
+        half_dt,
+    };
     (
         s.ax.par_chunks_mut(CHUNK),
         s.ay.par_chunks_mut(CHUNK),
@@ -654,49 +730,118 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, (ax, ay, vx, vy))| {
-            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let mut out = Forces::NONE;
-            for k in 0..ax.len() {
-                let i = c * CHUNK + k;
-                let entries = list.of_padded(i);
-                let g = &near_g[i * stride..i * stride + entries.len()];
-                let inv_rho = 1.0 / rho[i];
-                let sc = Scales {
-                    pressure: if SYMMETRIC {
-                        prm.mass
-                    } else {
-                        prm.mass * inv_rho * inv_rho
-                    },
-                    av: prm.av * inv_rho,
-                    visc: prm.visc * inv_rho,
-                };
-                let args = (i, entries, g, (x, y), (vpx, vpy), pq, vol, &images, sc);
-                let (fx, fy) = match isa {
-                    // SAFETY: Isa::detect found the CPU features.
-                    #[cfg(target_arch = "x86_64")]
-                    Isa::Avx512 => unsafe { pair_forces_avx512::<AV>(args, scratch) },
-                    #[cfg(target_arch = "x86_64")]
-                    Isa::Avx2 => unsafe { pair_forces_avx2::<AV>(args, scratch) },
-                    Isa::Base => pair_forces::<AV>(args, scratch),
-                };
-                let axi = prm.grad_scale * fx + prm.body;
-                let ayi = prm.grad_scale * fy;
-                ax[k] = axi;
-                ay[k] = ayi;
-                vx[k] += half_dt * axi;
-                vy[k] += half_dt * ayi;
-                let a2 = axi * axi + ayi * ayi;
-                let v2 = vx[k] * vx[k] + vy[k] * vy[k];
-                out.finite &= (a2 + v2).is_finite();
-                out.a_max = out.a_max.max(a2);
-                out.v_max = out.v_max.max(v2);
-            }
-            out.a_max = out.a_max.sqrt();
-            out.v_max = out.v_max.sqrt();
-            out
+        .map(|(c, out)| match isa {
+            // SAFETY: Isa::detect found the CPU features.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { forces_chunk_avx512::<SYMMETRIC, AV>(c, out, &inp) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { forces_chunk_avx2::<SYMMETRIC, AV>(c, out, &inp) },
+            Isa::Base => forces_chunk::<SYMMETRIC, AV>(c, out, &inp),
         })
         .reduce(|| Forces::NONE, Forces::merge)
+}
+
+/// What every task of the force pass reads.
+struct ForcesIn<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    vpx: &'a [f64],
+    vpy: &'a [f64],
+    rho: &'a [f64],
+    vol: &'a [f64],
+    /// P (paper form) or P / rho^2 (symmetric).
+    pq: &'a [f64],
+    near_g: &'a [f64],
+    list: &'a NeighbourList,
+    images: [f64; 4],
+    prm: &'a Params,
+    stride: usize,
+    half_dt: f64,
+}
+
+/// One task's outputs: ax, ay, vx, vy.
+type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
+
+/// [`forces_chunk`] for AVX-512: one call per task.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn forces_chunk_avx512<const SYMMETRIC: bool, const AV: bool>(
+    c: usize,
+    out: ForcesOut,
+    inp: &ForcesIn,
+) -> Forces {
+    forces_chunk::<SYMMETRIC, AV>(c, out, inp)
+}
+
+/// [`forces_chunk`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn forces_chunk_avx2<const SYMMETRIC: bool, const AV: bool>(
+    c: usize,
+    out: ForcesOut,
+    inp: &ForcesIn,
+) -> Forces {
+    forces_chunk::<SYMMETRIC, AV>(c, out, inp)
+}
+
+/// Accelerations and the closing kick for the fluid particles of task `c`.
+#[inline(always)]
+fn forces_chunk<const SYMMETRIC: bool, const AV: bool>(
+    c: usize,
+    out: ForcesOut,
+    inp: &ForcesIn,
+) -> Forces {
+    let (ax, ay, vx, vy) = out;
+    let prm = inp.prm;
+    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+    let mut seen = Forces::NONE;
+    for k in 0..ax.len() {
+        let i = c * CHUNK + k;
+        let entries = inp.list.of_padded(i);
+        let g = &inp.near_g[i * inp.stride..i * inp.stride + entries.len()];
+        let inv_rho = 1.0 / inp.rho[i];
+        let sc = Scales {
+            pressure: if SYMMETRIC {
+                prm.mass
+            } else {
+                prm.mass * inv_rho * inv_rho
+            },
+            av: prm.av * inv_rho,
+            visc: prm.visc * inv_rho,
+        };
+        let args = (
+            i,
+            entries,
+            g,
+            (inp.x, inp.y),
+            (inp.vpx, inp.vpy),
+            inp.pq,
+            inp.vol,
+            &inp.images,
+            sc,
+        );
+        let (fx, fy) = pair_forces::<AV>(args, scratch);
+        let axi = prm.grad_scale * fx + prm.body;
+        let ayi = prm.grad_scale * fy;
+        ax[k] = axi;
+        ay[k] = ayi;
+        vx[k] += inp.half_dt * axi;
+        vy[k] += inp.half_dt * ayi;
+        let a2 = axi * axi + ayi * ayi;
+        let v2 = vx[k] * vx[k] + vy[k] * vy[k];
+        seen.finite &= (a2 + v2).is_finite();
+        seen.a_max = seen.a_max.max(a2);
+        seen.v_max = seen.v_max.max(v2);
+    }
+    seen.a_max = seen.a_max.sqrt();
+    seen.v_max = seen.v_max.sqrt();
+    seen
 }
 
 #[cfg(test)]
