@@ -226,6 +226,51 @@ fn a_sweep_stopped_after_some_points_resumes_losing_nothing() {
     assert_same_rows(&second.rows, &full.rows);
 }
 
+/// A scene the stop flag cuts short mid-run ends as interrupted inside the
+/// solver and leaves no row: it is not a result, and a resume reruns it.
+#[test]
+fn a_scene_stopped_mid_run_leaves_no_row() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("stopped");
+    // One point that would take minutes to finish.
+    let spec = SweepSpec::from_toml(
+        r#"
+        kernels = ["monaghan"]
+        n = [30]
+        re = [10.0]
+        c0 = ["rule10"]
+        [scene]
+        t_end = 100000.0
+        "#,
+        "long sweep",
+    )
+    .unwrap()
+    .resolved()
+    .unwrap();
+    let stop = AtomicBool::new(false);
+    let r = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            std::thread::sleep(Duration::from_millis(200));
+            stop.store(true, Ordering::SeqCst);
+        });
+        run_sweep(
+            &dir,
+            Some(spec),
+            false,
+            None,
+            Parallel::per_core(),
+            &stop,
+            &ProgressBar::hidden(),
+            &|row| panic!("no row expected, got {}", row.id),
+        )
+        .unwrap()
+    });
+    assert!(r.interrupted);
+    assert!(r.rows.is_empty(), "{:?}", r.rows);
+    assert_eq!((r.ran, r.already, r.remaining), (0, 0, 1));
+    assert!(jsonl_ids(&dir).is_empty());
+}
+
 /// SIGINT to a running `shearsph sweep`: it stops with status 130 and keeps
 /// its finished rows; the same command then finishes the sweep.
 #[test]

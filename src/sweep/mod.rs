@@ -7,8 +7,9 @@
 //! - Scenes run side by side, one per worker, each inside its own rayon pool
 //!   (one thread unless asked otherwise); the longest (estimated) start first.
 //! - A stop flag (Ctrl-C in the CLI) ends the sweep cleanly: no new point
-//!   starts, running ones are abandoned (their rows are not written) and every
-//!   finished row is kept.
+//!   starts, running ones end at their next step as interrupted (the
+//!   solver's `Observer::should_stop`; their rows are not written, so a
+//!   resume reruns them) and every finished row is kept.
 //!
 //! Storage (see [`store`]): `results.jsonl` gets one JSON row per finished
 //! point, appended and fsynced as it finishes (a line cut short by a crash is
@@ -469,6 +470,9 @@ impl Row {
                 classify(s.linf_rel_err_max, s.max_eps, rules.linf_bound, eps_bound),
                 None,
             ),
+            // [`run_point`] keeps no row of a stopped run (it is rerun on
+            // resume); a row made of one anyway does not pass for a result.
+            solver::Outcome::Interrupted { .. } => (Class::Failed, Some("interrupted".into())),
         };
         let failure_reason = match class {
             Class::Failed => Some(
@@ -539,22 +543,15 @@ pub fn classify(linf_max: f64, max_eps: f64, linf_bound: f64, eps_bound: f64) ->
     }
 }
 
-/// The payload a stopped scene unwinds with.
-struct Stopped;
-
-/// Watches the stop flag from inside a running scene; the solver has no stop
-/// signal of its own, so a stop unwinds out of `Observer::step` with a
-/// private payload (`resume_unwind` runs no panic hook) and [`run_point`]
-/// catches it. The scene's partial state is dropped whole.
+/// Hands the stop flag to a running scene, which ends at the next step as
+/// [`solver::Outcome::Interrupted`]; [`run_point`] then drops it whole.
 struct StopWatch<'a> {
     stop: &'a AtomicBool,
 }
 
 impl Observer for StopWatch<'_> {
-    fn step(&mut self, _t: f64, steps: u64) {
-        if steps.is_multiple_of(32) && self.stop.load(Ordering::Relaxed) {
-            panic::resume_unwind(Box::new(Stopped));
-        }
+    fn should_stop(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
     }
 }
 
@@ -625,8 +622,11 @@ pub fn run_point(
         return Some(row);
     }
     let mut watch = StopWatch { stop };
+    // A panic in the solver is a bug, but it costs one row, not the sweep.
     let result = panic::catch_unwind(AssertUnwindSafe(|| simulate_by_name(&scene, &mut watch)));
     match result {
+        // Stopped before the end: no row, so a resumed sweep reruns it.
+        Ok(Ok(r)) if matches!(r.outcome, solver::Outcome::Interrupted { .. }) => None,
         Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
         Ok(Err(e)) => Some(Row::not_run(
             point,
@@ -635,7 +635,6 @@ pub fn run_point(
             f64::NAN,
             String::new(),
         )),
-        Err(payload) if payload.is::<Stopped>() => None,
         Err(payload) => {
             let msg = payload
                 .downcast_ref::<String>()
