@@ -13,7 +13,7 @@ use anyhow::{bail, Context, Result};
 use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::solver::{Outcome, RunResult, Sample};
+use crate::solver::{Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
 #[derive(Debug, Clone, Serialize)]
@@ -35,7 +35,7 @@ pub struct Summary {
     pub alpha: f64,
     pub initial: crate::scene::Initial,
     pub t_end: f64,
-    /// Time reached (below t_end when the run failed).
+    /// Time reached (below t_end when the run failed or was interrupted).
     pub t: f64,
     pub steps: u64,
     /// The last full step's dt and the limit that bound it.
@@ -66,11 +66,14 @@ pub struct Summary {
     pub neighbour_rebuilds: u64,
     /// Mean neighbour-list length (R h + skin) per particle, at the start.
     pub mean_neighbours: f64,
-    /// `ok` or `failed`.
+    /// `ok`, `failed` or `interrupted` (stopped early, e.g. by Ctrl-C; `t`
+    /// and `steps` say where).
     pub outcome: &'static str,
     pub failure_reason: Option<String>,
     pub failure_t: Option<f64>,
     pub failure_step: Option<u64>,
+    /// The fluid particle that triggered the failure.
+    pub failure_particle: Option<Particle>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -84,11 +87,19 @@ impl Summary {
     pub fn new(r: &RunResult) -> Summary {
         let pr = &r.problem;
         let last = r.last();
-        let (outcome, failure_reason, failure_t, failure_step) = match &r.outcome {
-            Outcome::Ok => ("ok", None, None, None),
-            Outcome::Failed { failure, t, step } => {
-                ("failed", Some(failure.to_string()), Some(*t), Some(*step))
-            }
+        let (failure_reason, failure_t, failure_step, failure_particle) = match &r.outcome {
+            Outcome::Ok | Outcome::Interrupted { .. } => (None, None, None, None),
+            Outcome::Failed {
+                failure,
+                t,
+                step,
+                particle,
+            } => (
+                Some(failure.to_string()),
+                Some(*t),
+                Some(*step),
+                Some(*particle),
+            ),
         };
         let particles = r.n_fluid + r.n_wall;
         Summary {
@@ -131,10 +142,11 @@ impl Summary {
             kinetic_energy: last.kinetic_energy,
             neighbour_rebuilds: r.neighbour_rebuilds,
             mean_neighbours: r.mean_neighbours,
-            outcome,
+            outcome: r.outcome.status(),
             failure_reason,
             failure_t,
             failure_step,
+            failure_particle,
         }
     }
 
@@ -302,8 +314,12 @@ pub fn profile_svg(r: &RunResult) -> Result<String> {
             r.problem.c0_rule,
             r.problem.scene.alpha
         );
-        if let Outcome::Failed { t, .. } = &r.outcome {
-            title.push_str(&format!(": FAILED at t = {t:.4}"));
+        match &r.outcome {
+            Outcome::Ok => {}
+            Outcome::Failed { t, .. } => title.push_str(&format!(": FAILED at t = {t:.4}")),
+            Outcome::Interrupted { t, .. } => {
+                title.push_str(&format!(": INTERRUPTED at t = {t:.4}"))
+            }
         }
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 20))

@@ -1,8 +1,12 @@
 //! `shearsph run` and `shearsph c0` from the outside: outputs written, an
-//! existing folder kept without --force, clear errors for bad input.
+//! existing folder kept without --force, clear errors for bad input (one
+//! test per kind), a failed run naming its particle, Ctrl-C keeping the
+//! outputs so far.
 
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use shearsph::kernels::KERNELS;
 
@@ -115,7 +119,15 @@ fn run_keeps_an_existing_folder_without_force() {
 
     let again = quick_run(&out, &["--u", "2"]);
     assert_eq!(again.status.code(), Some(1));
-    assert!(stderr(&again).contains("--force"), "{}", stderr(&again));
+    let err = stderr(&again);
+    for w in [
+        out.to_str().unwrap(),
+        "already exists",
+        "--force",
+        "another with --out",
+    ] {
+        assert!(err.contains(w), "{err:?} lacks {w:?}");
+    }
     assert_eq!(
         std::fs::read(out.join("summary.json")).unwrap(),
         before,
@@ -129,66 +141,153 @@ fn run_keeps_an_existing_folder_without_force() {
     assert_eq!(summary["u"], 2.0);
 }
 
-#[test]
-fn bad_input_names_the_field_and_the_fix() {
+/// A scene `shearsph run` refuses before writing anything: exit status 1, an
+/// error that holds every one of `wanted` (the field, the flag, the fix).
+fn assert_refused(args: &[&str], wanted: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
-    let cases: &[(&[&str], &[&str])] = &[
-        (&["--n", "1"], &["n_layers", "--n", ">= 3"]),
-        (&["--kernel", "nope"], &["unknown kernel", "monaghan"]),
-        (
-            &["--kernel", "monagan"],
-            &["unknown kernel", "did you mean \"monaghan\""],
-        ),
-        (
-            &["--t-end", "1e9", "--re", "1000", "--c0", "rule10"],
-            &[
-                "max_run_s",
-                "would take about",
-                "days",
-                "--max-run-s",
-                "cfl",
-            ],
-        ),
-        (&["--alpha", "2"], &["alpha", "[0, 1]"]),
-        (&["--u", "-1"], &["`u`", "positive"]),
-        (&["--re", "0"], &["`re`", "positive"]),
-        (&["--d", "0"], &["`d`", "positive"]),
-        (&["--t-end", "-5"], &["t_end", "positive"]),
-        (&["--c0", "0"], &["c0", "positive"]),
-        (&["--c0", "banana"], &["c0", "rule10"]),
-        (&["--c0", "derived:nope"], &["c0", "models"]),
-        (&["--initial", "moving"], &["initial", "rest"]),
-    ];
-    for (args, wanted) in cases {
-        let o = quick_run(&out, args);
-        let err = stderr(&o);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
-        for w in *wanted {
-            assert!(err.contains(w), "{args:?}: {err:?} lacks {w:?}");
-        }
+    let o = quick_run(&out, args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+    for w in wanted {
+        assert!(err.contains(w), "{args:?}: {err:?} lacks {w:?}");
     }
-    assert!(!out.exists(), "a refused scene writes nothing");
+    assert!(!out.exists(), "{args:?}: a refused scene writes nothing");
+}
 
-    // Flags clap itself refuses.
-    let o = quick_run(&out, &["--re", "10", "--p", "0.1"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let o = quick_run(&out, &["--bogus"]);
-    assert_eq!(o.status.code(), Some(2));
+#[test]
+fn n_too_small_for_the_support_is_refused() {
+    assert_refused(
+        &["--n", "1"],
+        &["`n_layers`", "--n", "support R = 2", ">= 3"],
+    );
+    // The bound follows the kernel's support.
+    assert_refused(
+        &["--kernel", "morris", "--n", "3"],
+        &["`n_layers`", "--n", "support R = 3", "use n_layers >= 4"],
+    );
+}
 
-    // A scene file with a misspelt field.
+#[test]
+fn non_positive_u_is_refused() {
+    assert_refused(&["--u", "-1"], &["`u`", "--u", "must be a positive number"]);
+    assert_refused(&["--u", "0"], &["`u`", "--u", "must be a positive number"]);
+}
+
+#[test]
+fn non_positive_re_is_refused() {
+    assert_refused(
+        &["--re", "0"],
+        &["`re`", "--re", "must be a positive number"],
+    );
+    assert_refused(
+        &["--re", "-3"],
+        &["`re`", "--re", "must be a positive number"],
+    );
+}
+
+#[test]
+fn non_positive_d_is_refused() {
+    assert_refused(&["--d", "0"], &["`d`", "--d", "must be a positive number"]);
+}
+
+#[test]
+fn non_positive_c0_is_refused() {
+    for c0 in ["0", "-2"] {
+        assert_refused(
+            &["--c0", c0],
+            &[
+                "`c0`",
+                "--c0",
+                "not a positive sound speed",
+                "give a positive number or another rule",
+            ],
+        );
+    }
+    // Not a number nor a rule: the rules are listed.
+    assert_refused(&["--c0", "banana"], &["c0", "rule10"]);
+    assert_refused(&["--c0", "derived:nope"], &["c0", "models"]);
+}
+
+#[test]
+fn non_positive_end_time_is_refused() {
+    assert_refused(
+        &["--t-end", "-5"],
+        &["`t_end`", "--t-end", "must be a positive number"],
+    );
+    assert_refused(
+        &["--t-end", "0"],
+        &["`t_end`", "--t-end", "must be a positive number"],
+    );
+}
+
+#[test]
+fn alpha_outside_0_1_is_refused() {
+    for alpha in ["2", "-0.1"] {
+        assert_refused(
+            &["--alpha", alpha],
+            &["`alpha`", "--alpha", "outside [0, 1]"],
+        );
+    }
+}
+
+#[test]
+fn unknown_kernel_lists_the_known_ones_and_suggests_the_nearest() {
+    let mut wanted = vec!["unknown kernel \"nope\"", "--kernel", "known kernels:"];
+    wanted.extend(KERNELS.iter().map(|k| k.name));
+    assert_refused(&["--kernel", "nope"], &wanted);
+    assert_refused(
+        &["--kernel", "monagan"],
+        &["unknown kernel", "did you mean \"monaghan\""],
+    );
+}
+
+#[test]
+fn too_long_a_run_says_how_long_and_how_to_change_the_bound() {
+    assert_refused(
+        &["--t-end", "1e9", "--re", "1000", "--c0", "rule10"],
+        &[
+            "`max_run_s`",
+            "would take about",
+            "days",
+            "bound by the cfl limit",
+            "raise it (--max-run-s)",
+            "shorten t_end",
+        ],
+    );
+}
+
+#[test]
+fn unknown_scene_file_key_is_refused_naming_file_and_key() {
+    let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("scene.toml");
     std::fs::write(&file, "kernel = \"monaghan\"\nn_layer = 5\n").unwrap();
-    let o = quick_run(&out, &["--scene", file.to_str().unwrap()]);
-    assert!(
-        stderr(&o).contains("n_layer") && stderr(&o).contains(file.to_str().unwrap()),
-        "{}",
-        stderr(&o)
+    assert_refused(
+        &["--scene", file.to_str().unwrap()],
+        &[
+            file.to_str().unwrap(),
+            "unknown field `n_layer`",
+            "expected one of",
+            "`n_layers`",
+        ],
     );
     // A scene file with both re and p.
     std::fs::write(&file, "re = 10\np = 0.1\n").unwrap();
-    let o = quick_run(&out, &["--scene", file.to_str().unwrap()]);
-    assert!(stderr(&o).contains("both `re` and `p`"), "{}", stderr(&o));
+    assert_refused(&["--scene", file.to_str().unwrap()], &["both `re` and `p`"]);
+}
+
+#[test]
+fn other_bad_flags_are_refused() {
+    assert_refused(&["--initial", "moving"], &["initial", "rest"]);
+    // Flags clap itself refuses.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o = quick_run(&out, &["--re", "10", "--p", "0.1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
+    let o = quick_run(&out, &["--bogus"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--bogus"), "{}", stderr(&o));
 }
 
 #[test]
@@ -243,7 +342,138 @@ fn failed_run_writes_outputs_and_exits_3() {
         "{s}"
     );
     assert!(s["failure_t"].as_f64().unwrap() < s["t_end"].as_f64().unwrap());
-    assert!(out.join("summary.json").is_file());
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(written, s);
+
+    // The particle that triggered it: which one, where, how fast.
+    let p = &s["failure_particle"];
+    let index = p["index"].as_u64().unwrap();
+    assert!(index < s["fluid_particles"].as_u64().unwrap(), "{p}");
+    let (x, y) = (p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
+    assert!(y.abs() < s["b"].as_f64().unwrap(), "{p}");
+    for key in ["layer", "vx", "vy"] {
+        assert!(p[key].is_number(), "{p}");
+    }
+    // And stderr says it in words.
+    let err = stderr(&o);
+    for part in [
+        format!(
+            "outcome: failed at t = {:.6}",
+            s["failure_t"].as_f64().unwrap()
+        ),
+        format!("step {}", s["failure_step"]),
+        format!("fluid particle {index} (started in layer {})", p["layer"]),
+        format!("x = {x:.4}, y = {y:.4}"),
+    ] {
+        assert!(err.contains(&part), "{err:?} lacks {part:?}");
+    }
+
+    // The text summary too.
+    let text = shearsph(&[
+        "run",
+        "--n",
+        "6",
+        "--jitter",
+        "0.05",
+        "--c0",
+        "0.01*rule10",
+        "--quiet",
+        "--force",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(text.status.code(), Some(3));
+    let text = String::from_utf8(text.stdout).unwrap();
+    assert!(
+        text.contains(&format!("fluid particle {index} ")) && text.contains("compaction"),
+        "{text}"
+    );
+}
+
+/// SIGINT to a running `shearsph run`: it ends at the next step, writes
+/// every output up to there (summary `interrupted`, the partial time series,
+/// profile, charts), says where it stopped and exits with status 130.
+#[test]
+fn ctrl_c_stops_a_run_and_keeps_its_outputs_so_far() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    // Minutes of work if it ran to the end; outputs every unit of time.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args([
+            "run",
+            "--n",
+            "30",
+            "--t-end",
+            "100000",
+            "--output-interval",
+            "1",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The run says it started once its Ctrl-C handler is in place.
+    let mut err = BufReader::new(child.stderr.take().unwrap());
+    let mut first = String::new();
+    err.read_line(&mut first).unwrap();
+    assert!(first.contains("Ctrl-C stops"), "{first:?}");
+    // Let it pass a few output times (not asserted: any stop point is fine).
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_millis(300) {
+        assert!(child.try_wait().unwrap().is_none(), "ended by itself");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let signalled = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signalled.success());
+    let mut rest = String::new();
+    err.read_to_string(&mut rest).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{rest}");
+
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["outcome"], "interrupted");
+    assert_eq!(
+        s,
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    );
+    let (t, steps) = (s["t"].as_f64().unwrap(), s["steps"].as_u64().unwrap());
+    assert!(t > 0.0 && t < s["t_end"].as_f64().unwrap(), "t = {t}");
+    assert!(
+        rest.contains(&format!("interrupted at t = {t:.6}, step {steps}")),
+        "{rest}"
+    );
+    assert!(rest.contains(out.to_str().unwrap()), "{rest}");
+
+    // The time series: t = 0, every output time passed (1, 2, ...), and
+    // the time reached.
+    let series = std::fs::read_to_string(out.join("timeseries.csv")).unwrap();
+    let rows: Vec<(f64, u64)> = series
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut f = l.split(',');
+            (
+                f.next().unwrap().parse().unwrap(),
+                f.next().unwrap().parse().unwrap(),
+            )
+        })
+        .collect();
+    let (last, passed) = rows.split_last().unwrap();
+    assert_eq!(*last, (t, steps));
+    let want: Vec<f64> = (0..).map(f64::from).take_while(|&k| k < t).collect();
+    let got: Vec<f64> = passed.iter().map(|r| r.0).collect();
+    assert_eq!(got, want);
+    for f in ["profile.csv", "profile.svg", "timeseries.svg", "scene.toml"] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
 }
 
 #[test]

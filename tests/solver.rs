@@ -1,5 +1,7 @@
 //! The solver against the analytic solutions, for every shipped kernel; a
-//! too small c0 ends as `failed`; results do not depend on the thread count.
+//! too small c0 ends as `failed`, naming the particle; an observer's stop
+//! ends a run as `interrupted`, keeping its samples; results do not depend
+//! on the thread count.
 //!
 //! Tolerances are twice the measured errors (the measured value is in the
 //! comment), on small scenes that finish in seconds.
@@ -7,7 +9,7 @@
 use shearsph::kernel::{Kernel, KernelVisitor};
 use shearsph::kernels::{self, KERNELS};
 use shearsph::scene::{Initial, Scene};
-use shearsph::solver::{self, Failure, Outcome, Quiet, RunResult};
+use shearsph::solver::{self, Failure, Observer, Outcome, Quiet, RunResult};
 
 /// The test scene: N = 8, Re = 10, the paper's Table 2 sound speed, no
 /// artificial viscosity (its extra shear viscosity, about alpha c0 h / 8, is
@@ -24,14 +26,18 @@ fn scene(kernel: &str, initial: Initial) -> Scene {
 }
 
 fn run(scene: &Scene) -> RunResult {
-    struct Visit<'a>(&'a Scene);
+    run_observed(scene, &mut Quiet)
+}
+
+fn run_observed(scene: &Scene, observer: &mut dyn Observer) -> RunResult {
+    struct Visit<'a>(&'a Scene, &'a mut dyn Observer);
     impl KernelVisitor for Visit<'_> {
         type Output = RunResult;
         fn visit<K: Kernel>(self) -> RunResult {
-            solver::simulate::<K>(self.0, &mut Quiet).expect("valid scene")
+            solver::simulate::<K>(self.0, self.1).expect("valid scene")
         }
     }
-    kernels::with_kernel(&scene.kernel, Visit(scene)).expect("known kernel")
+    kernels::with_kernel(&scene.kernel, Visit(scene, observer)).expect("known kernel")
 }
 
 /// Largest L_inf error of the layer means over the output times.
@@ -142,16 +148,30 @@ fn too_small_c0_fails_with_a_reason() {
         Outcome::Failed {
             failure: Failure::Compaction { eps, limit },
             t,
-            ..
+            step,
+            particle: p,
         } => {
             assert!(eps > limit && *t < r.problem.t_end);
-            eprintln!(
-                "c0 = 0.1 U: failed at t = {t:.3}: {}",
-                Failure::Compaction {
-                    eps: *eps,
-                    limit: *limit
-                }
-            );
+            assert_eq!((*t, *step), (r.t, r.steps));
+            // The densest fluid particle, as it was: a fluid index, still
+            // inside the channel, from a fluid layer.
+            let n = r.problem.lattice.n_layers as i32;
+            assert!(p.index < r.n_fluid, "{p:?}");
+            assert!(p.layer.abs() < n, "{p:?}");
+            assert!(p.y.abs() < r.problem.lattice.b(), "{p:?}");
+            assert!((0.0..r.problem.lattice.width).contains(&p.x), "{p:?}");
+            assert!(p.vx.is_finite() && p.vy.is_finite(), "{p:?}");
+            // The message says when, why and which particle.
+            let said = r.outcome.to_string();
+            eprintln!("c0 = 0.1 U: {said}");
+            for part in [
+                format!("failed at t = {t:.6}, step {step}"),
+                "compaction".to_string(),
+                format!("fluid particle {} (started in layer {})", p.index, p.layer),
+                format!("x = {:.4}, y = {:.4}", p.x, p.y),
+            ] {
+                assert!(said.contains(&part), "{said:?} lacks {part:?}");
+            }
         }
         other => panic!("expected a compaction failure, got {other:?}"),
     }
@@ -162,6 +182,54 @@ fn too_small_c0_fails_with_a_reason() {
     s.t_end = Some(r.t * 2.0);
     let control = run(&s);
     assert_eq!(control.outcome, Outcome::Ok);
+}
+
+/// Stops the run once `k` steps are done.
+struct StopAfter {
+    k: u64,
+    steps: u64,
+}
+
+impl Observer for StopAfter {
+    fn step(&mut self, _t: f64, steps: u64) {
+        self.steps = steps;
+    }
+    fn should_stop(&self) -> bool {
+        self.steps >= self.k
+    }
+}
+
+#[test]
+fn an_observer_stop_ends_the_run_as_interrupted_keeping_its_samples() {
+    let s = scene("monaghan", Initial::Rest);
+    let full = run(&s);
+    assert_eq!(full.outcome, Outcome::Ok);
+    // Half-way, between two output times.
+    let k = full.steps / 2;
+    let mut stop = StopAfter { k, steps: 0 };
+    let r = run_observed(&s, &mut stop);
+    assert_eq!(r.steps, k);
+    match r.outcome {
+        Outcome::Interrupted { t, step } => {
+            assert_eq!(step, k);
+            assert_eq!(t, r.t);
+            assert!(t > 0.0 && t < r.problem.t_end, "t = {t}");
+        }
+        ref other => panic!("expected interrupted, got {other:?}"),
+    }
+    // Every output sample before the stop, the same as the full run's, and
+    // one last sample at the time reached.
+    let (last, kept) = r.samples.split_last().unwrap();
+    assert_eq!((last.t, last.step), (r.t, k));
+    let before: Vec<_> = full.samples.iter().filter(|x| x.t < r.t).collect();
+    assert!(before.len() >= 2, "some output times passed");
+    assert_eq!(kept.len(), before.len());
+    for (a, b) in kept.iter().zip(before) {
+        assert_eq!(
+            (a.t, a.step, a.max_eps, a.linf_rel_err, a.kinetic_energy),
+            (b.t, b.step, b.max_eps, b.linf_rel_err, b.kinetic_energy)
+        );
+    }
 }
 
 #[test]

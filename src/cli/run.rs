@@ -1,26 +1,31 @@
 //! `shearsph run`: one scene, with a progress bar; writes the summary, the
-//! profile, the time series and the charts, and prints the summary.
+//! profile, the time series and the charts, and prints the summary. Ctrl-C
+//! ends the run at the next step and writes the same outputs up to there.
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::sweep::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
 use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
 use crate::output::{self, Summary};
 use crate::scene::{Problem, Scene};
-use crate::solver::{self, Observer, RunResult, Sample};
+use crate::solver::{self, Observer, Outcome, RunResult, Sample};
 
 /// Exit status of a run that completed but whose outcome is `failed`.
 pub const EXIT_FAILED_RUN: u8 = 3;
 
 /// Run one scene. Exit status 0 when the run is `ok`, 3 when it ended
-/// `failed` (outputs are written either way), 1 on an error.
+/// `failed`, 130 when Ctrl-C stopped it (`interrupted`: the outputs hold the
+/// run up to there); outputs are written in all three cases. 1 on an error.
 #[derive(Debug, Args)]
 #[command(allow_negative_numbers = true, args_override_self = true)]
 pub struct RunArgs {
@@ -58,9 +63,18 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
         );
         bar
     };
+    let stop = stop_on_ctrl_c_saying("ending the run at this step and writing its outputs so far")?;
+    if !args.quiet {
+        // After the handler is in place: from here Ctrl-C keeps the outputs.
+        eprintln!(
+            "running {} N = {} to t = {:.6} (Ctrl-C stops and writes the outputs so far)",
+            scene.kernel, problem.lattice.n_layers, problem.t_end
+        );
+    }
     let mut progress = Progress {
         bar: bar.clone(),
         t_end: problem.t_end,
+        stop,
     };
     let result = run_scene(&scene, &mut progress)?;
     bar.finish_and_clear();
@@ -69,13 +83,23 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
     let summary = Summary::new(&result);
     if args.json {
         println!("{}", summary.to_json());
+        if let Outcome::Failed { .. } = result.outcome {
+            eprintln!("outcome: {}", result.outcome);
+        }
     } else {
-        print_summary(&summary, &args.out);
+        print_summary(&summary, &result.outcome, &args.out);
     }
-    Ok(if result.outcome.is_ok() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(EXIT_FAILED_RUN)
+    Ok(match result.outcome {
+        Outcome::Ok => ExitCode::SUCCESS,
+        Outcome::Failed { .. } => ExitCode::from(EXIT_FAILED_RUN),
+        Outcome::Interrupted { .. } => {
+            eprintln!(
+                "{}: the outputs up to there are in {}",
+                result.outcome,
+                args.out.display()
+            );
+            ExitCode::from(EXIT_INTERRUPTED)
+        }
     })
 }
 
@@ -100,6 +124,8 @@ pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult
 struct Progress {
     bar: ProgressBar,
     t_end: f64,
+    /// Set by Ctrl-C.
+    stop: Arc<AtomicBool>,
 }
 
 impl Observer for Progress {
@@ -115,9 +141,12 @@ impl Observer for Progress {
             s.t, s.linf_rel_err, s.max_eps
         ));
     }
+    fn should_stop(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
 }
 
-fn print_summary(s: &Summary, out: &std::path::Path) {
+fn print_summary(s: &Summary, outcome: &Outcome, out: &std::path::Path) {
     println!(
         "{} N = {} ({} particles), Re = {:.4}, U = {}, alpha = {}",
         s.kernel, s.n_layers, s.particles, s.re, s.u, s.alpha
@@ -146,12 +175,6 @@ fn print_summary(s: &Summary, out: &std::path::Path) {
         s.mean_eps,
         s.rms_v / s.u
     );
-    match &s.failure_reason {
-        None => println!("outcome: ok"),
-        Some(reason) => println!(
-            "outcome: failed at t = {:.6}: {reason}",
-            s.failure_t.unwrap_or(f64::NAN)
-        ),
-    }
+    println!("outcome: {outcome}");
     println!("outputs in {}", out.display());
 }

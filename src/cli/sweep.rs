@@ -19,7 +19,9 @@ use crate::output::write_atomic;
 use crate::report;
 use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
 
-/// Exit status of a sweep stopped by Ctrl-C (its finished rows are kept).
+/// Exit status of a command stopped by Ctrl-C (SIGINT) after keeping what it
+/// had (a sweep its finished rows, a run its outputs so far): 128 + 2, what
+/// a shell reports for a process that SIGINT ended.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Run a grid of scenes in parallel, or merge shard folders.
@@ -202,6 +204,12 @@ impl RunSweepArgs {
 /// A stop flag set by Ctrl-C (SIGINT): the first press stops cleanly, a
 /// second quits at once (rows already written are kept either way).
 pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>> {
+    stop_on_ctrl_c_saying("stopping the running scenes; finished rows are kept")
+}
+
+/// [`stop_on_ctrl_c`] for any command: the first press prints
+/// `interrupted: {what} (Ctrl-C again quits at once)`. One per process.
+pub fn stop_on_ctrl_c_saying(what: &'static str) -> Result<Arc<AtomicBool>> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     ctrlc::set_handler(move || {
@@ -209,7 +217,7 @@ pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>> {
             eprintln!("\ninterrupted again: quitting now");
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
-        eprintln!("\ninterrupted: stopping the running scenes; finished rows are kept (Ctrl-C again quits at once)");
+        eprintln!("\ninterrupted: {what} (Ctrl-C again quits at once)");
     })
     .context("installing the Ctrl-C handler")?;
     Ok(stop)
