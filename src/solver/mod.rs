@@ -51,8 +51,13 @@ pub fn pair_loop_isa() -> (&'static str, u32) {
 pub trait Observer: Send {
     /// After every step.
     fn step(&mut self, _t: f64, _steps: u64) {}
-    /// At every output time (t = 0 included), and at a failure.
+    /// At every output time (t = 0 included), and at a failure or a stop.
     fn output(&mut self, _sample: &Sample) {}
+    /// Asked once per step, after it: `true` ends the run there as
+    /// [`Outcome::Interrupted`], with a last sample at the time reached.
+    fn should_stop(&self) -> bool {
+        false
+    }
 }
 
 /// An observer that ignores everything.
@@ -162,17 +167,80 @@ impl std::fmt::Display for Failure {
     }
 }
 
+/// The fluid particle that triggered a failure, as it was when the failure
+/// was seen: the first with a non-finite value ([`Failure::NotFinite`]),
+/// the fastest ([`Failure::Speed`]), the one of largest |y|
+/// ([`Failure::ThroughWall`]) or the densest ([`Failure::Compaction`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Particle {
+    /// Index among the particles (fluid first; the order never changes).
+    pub index: usize,
+    /// The lattice layer n it started in (0 on the centre line).
+    pub layer: i32,
+    pub x: f64,
+    pub y: f64,
+    pub vx: f64,
+    pub vy: f64,
+}
+
+impl std::fmt::Display for Particle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "fluid particle {} (started in layer {}) at x = {:.4}, y = {:.4}, velocity ({:.4}, {:.4})",
+            self.index, self.layer, self.x, self.y, self.vx, self.vy
+        )
+    }
+}
+
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "status", rename_all = "lowercase")]
 pub enum Outcome {
     Ok,
-    Failed { failure: Failure, t: f64, step: u64 },
+    Failed {
+        failure: Failure,
+        t: f64,
+        step: u64,
+        particle: Particle,
+    },
+    /// The observer asked to stop ([`Observer::should_stop`]) after `step`.
+    Interrupted {
+        t: f64,
+        step: u64,
+    },
 }
 
 impl Outcome {
     pub fn is_ok(&self) -> bool {
         matches!(self, Outcome::Ok)
+    }
+
+    /// `ok`, `failed` or `interrupted`: the serialised `status`.
+    pub fn status(&self) -> &'static str {
+        match self {
+            Outcome::Ok => "ok",
+            Outcome::Failed { .. } => "failed",
+            Outcome::Interrupted { .. } => "interrupted",
+        }
+    }
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::Ok => write!(f, "ok"),
+            Outcome::Failed {
+                failure,
+                t,
+                step,
+                particle,
+            } => write!(
+                f,
+                "failed at t = {t:.6}, step {step}: {failure}; {particle}"
+            ),
+            Outcome::Interrupted { t, step } => write!(f, "interrupted at t = {t:.6}, step {step}"),
+        }
     }
 }
 
@@ -239,7 +307,7 @@ pub struct RunResult {
     pub n_fluid: usize,
     pub n_wall: usize,
     pub steps: u64,
-    /// Time reached (t_end unless the run failed).
+    /// Time reached (t_end unless the run failed or was stopped).
     pub t: f64,
     pub dt: DtStats,
     pub outcome: Outcome,
@@ -393,6 +461,47 @@ impl<'p> Sim<'p> {
         }
     }
 
+    /// The fluid particle that triggered `failure` (see [`Particle`]): a
+    /// sequential scan of the state, made only once a failure is seen.
+    fn culprit(&self, failure: &Failure) -> Particle {
+        let s = &self.s;
+        let fluid = 0..s.n_fluid;
+        let speed2 = |i: usize| s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i];
+        // The first fluid particle of largest `key` (a NaN key never wins).
+        let largest = |key: &dyn Fn(usize) -> f64| {
+            fluid
+                .clone()
+                .fold(0, |best, i| if key(i) > key(best) { i } else { best })
+        };
+        let i = match failure {
+            // The force pass's own test (which also catches a square that
+            // overflows), so the particle it flagged is found; then the
+            // positions and the density.
+            Failure::NotFinite => fluid
+                .clone()
+                .find(|&i| {
+                    let a2 = s.ax[i] * s.ax[i] + s.ay[i] * s.ay[i];
+                    !((a2 + speed2(i)).is_finite()
+                        && s.x[i].is_finite()
+                        && s.y[i].is_finite()
+                        && s.rho[i].is_finite())
+                })
+                .unwrap_or(0),
+            Failure::Speed { .. } => largest(&speed2),
+            Failure::ThroughWall { .. } => largest(&|i| s.y[i].abs()),
+            Failure::Compaction { .. } => largest(&|i| s.rho[i]),
+        };
+        Particle {
+            index: i,
+            layer: s.layer[i],
+            // In the strip: x runs on past its edges between list rebuilds.
+            x: s.x[i].rem_euclid(self.problem.lattice.width),
+            y: s.y[i],
+            vx: s.vx[i],
+            vy: s.vy[i],
+        }
+    }
+
     fn sample(&self, t: f64, steps: u64, dt: f64) -> Sample {
         diagnostics::sample(self.problem, &self.s, t, steps, dt)
     }
@@ -473,6 +582,7 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
             observer.output(&last);
             samples.push(last);
             outcome = Outcome::Failed {
+                particle: sim.culprit(&failure),
                 failure,
                 t,
                 step: steps,
@@ -484,6 +594,16 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
             let out = sim.sample(t, steps, dt_stats.last);
             observer.output(&out);
             samples.push(out);
+        }
+        if observer.should_stop() {
+            // The last sample at the time reached, unless this step took it.
+            if !landing {
+                let last = sim.sample(t, steps, dt_stats.last);
+                observer.output(&last);
+                samples.push(last);
+            }
+            outcome = Outcome::Interrupted { t, step: steps };
+            break;
         }
     }
 
@@ -581,6 +701,7 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
         taken += 1;
         if let Some(failure) = sim.failure(&check) {
             outcome = Outcome::Failed {
+                particle: sim.culprit(&failure),
                 failure,
                 t,
                 step: taken,
