@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
-use crate::scene::{Initial, Problem, Scene};
+use crate::scene::{Initial, Problem, Scene, WallVelocity};
 use crate::solver::{self, lattice::Lattice, StepsRun};
 
 /// What to measure.
@@ -475,6 +475,8 @@ pub fn table(r: &Report) -> String {
 #[derive(Debug, Clone, Serialize)]
 pub struct PeerRun {
     pub code: String,
+    /// The walls' velocity in the viscous term (`zero`: the paper's walls).
+    pub wall_velocity: WallVelocity,
     pub particles: usize,
     pub n_fluid: usize,
     pub n_wall: usize,
@@ -499,7 +501,7 @@ pub struct PeerRun {
 /// reach equal t nu / B^2. N = 35 layers in the half-width (h = 35 dy / 30 =
 /// 1.0104 d) and a strip 22 columns wide: 1650 particles with the walls,
 /// against PySPH's 1680 (24 x 60 fluid, 2 x 5 x 24 wall).
-pub fn pysph_match_problem() -> Result<Problem> {
+pub fn pysph_match_problem(wall_velocity: WallVelocity) -> Result<Problem> {
     let n_layers = 35;
     let scene = Scene {
         kernel: "morris".into(),
@@ -510,6 +512,7 @@ pub fn pysph_match_problem() -> Result<Problem> {
         c0: "rule10".parse().expect("a valid c0 rule"),
         alpha: 0.0,
         initial: Initial::Rest,
+        wall_velocity,
         t_end: Some(1e-6),
         ..Scene::builtin()
     };
@@ -522,13 +525,14 @@ pub fn pysph_match_problem() -> Result<Problem> {
     Ok(problem)
 }
 
-pub fn pysph_match(steps: u64, threads: usize) -> Result<PeerRun> {
-    let problem = pysph_match_problem()?;
+pub fn pysph_match(steps: u64, threads: usize, wall_velocity: WallVelocity) -> Result<PeerRun> {
+    let problem = pysph_match_problem(wall_velocity)?;
     let (r, _) = measure(&problem, steps, threads)?;
     let particles = r.n_fluid + r.n_wall;
     let flow = &problem.flow;
     Ok(PeerRun {
         code: "shearsph (morris = quintic spline)".into(),
+        wall_velocity,
         particles,
         n_fluid: r.n_fluid,
         n_wall: r.n_wall,

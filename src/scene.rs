@@ -80,6 +80,11 @@ pub struct Scene {
     pub allow_negative_pressure: bool,
     #[serde(default)]
     pub pressure_form: PressureForm,
+    /// The velocity the wall particles show the fluid's viscous term: `zero`
+    /// (the paper's walls, at rest) or `mirrored` (the fluid's velocity
+    /// mirrored through y = B, Morris, Fox and Zhu 1997).
+    #[serde(default)]
+    pub wall_velocity: WallVelocity,
     /// A run fails when the fluid's compaction eps = rho/rho0 - 1 exceeds this.
     #[serde(default = "default_eps_limit")]
     pub eps_limit: f64,
@@ -157,6 +162,39 @@ pub enum PressureForm {
     Paper,
     /// -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad W (momentum conserving).
     Symmetric,
+}
+
+/// The velocity wall particles show the fluid's viscous term. The walls
+/// never move either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WallVelocity {
+    /// u = 0, the paper's model: the wall layers are fluid at rest. The
+    /// deeper wall layers, at rest too, drag less than the flow continued
+    /// past y = B would: the fluid slips a little at the walls.
+    #[default]
+    Zero,
+    /// The fluid's velocity mirrored through the no-slip plane y = B, pair
+    /// by pair (Morris, Fox and Zhu 1997): a wall particle at depth D shows
+    /// a fluid particle at distance g from the plane the velocity
+    /// -(D / g) v. The factor 1 + D / g on the velocity difference is capped
+    /// at its largest value on the undisturbed lattice (the number of wall
+    /// layers), which binds only for a particle nearer the plane than one
+    /// layer spacing.
+    Mirrored,
+}
+
+impl FromStr for WallVelocity {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "zero" => Ok(WallVelocity::Zero),
+            "mirrored" => Ok(WallVelocity::Mirrored),
+            _ => Err(format!(
+                "unknown wall velocity {s:?}: use zero (the paper's walls) or mirrored"
+            )),
+        }
+    }
 }
 
 /// A base rule for c0.
@@ -295,6 +333,7 @@ fn flag_of(field: &'static str) -> &'static str {
         "output_interval" => "output-interval",
         "allow_negative_pressure" => "allow-negative-pressure",
         "pressure_form" => "pressure-form",
+        "wall_velocity" => "wall-velocity",
         "eps_limit" => "eps-limit",
         "max_run_s" => "max-run-s",
         other => other,

@@ -8,6 +8,7 @@ use clap::Args;
 
 use crate::bench::{self, Options};
 use crate::kernels;
+use crate::scene::WallVelocity;
 
 /// Time the solver's steps: throughput, ns per pair, memory, GFLOP/s against
 /// the machine's peak, and the growth of the cost with the particle count.
@@ -40,6 +41,11 @@ pub struct BenchArgs {
     /// 2000) on the first of `--threads` (default all cores); prints JSON.
     #[arg(long)]
     pub pysph_match: bool,
+    /// With --pysph-match: the walls' velocity in the viscous term, `zero`
+    /// (the paper's walls) or `mirrored` (no-slip at y = B, the class of
+    /// wall PySPH's example uses).
+    #[arg(long, default_value = "mirrored", requires = "pysph_match")]
+    pub wall_velocity: WallVelocity,
 }
 
 fn parse_count(s: &str) -> Result<usize, String> {
@@ -61,7 +67,7 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
             .first()
             .copied()
             .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
-        let run = bench::pysph_match(args.steps.unwrap_or(2000), threads)?;
+        let run = bench::pysph_match(args.steps.unwrap_or(2000), threads, args.wall_velocity)?;
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);
     }

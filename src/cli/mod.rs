@@ -77,6 +77,10 @@ pub struct SceneArgs {
     /// Pressure acceleration: `paper` (12) or `symmetric`.
     #[arg(long)]
     pub pressure_form: Option<String>,
+    /// Wall particles' velocity in the viscous term: `zero` (the paper) or
+    /// `mirrored` (Morris, Fox and Zhu 1997 no-slip).
+    #[arg(long)]
+    pub wall_velocity: Option<String>,
     /// Fail the run when the compaction exceeds this.
     #[arg(long)]
     pub eps_limit: Option<f64>,
@@ -123,6 +127,10 @@ impl SceneArgs {
         put(
             "pressure_form",
             self.pressure_form.clone().map(Value::String),
+        );
+        put(
+            "wall_velocity",
+            self.wall_velocity.clone().map(Value::String),
         );
         put("eps_limit", self.eps_limit.map(Value::Float));
         put("jitter", self.jitter.map(Value::Float));

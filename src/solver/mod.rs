@@ -22,7 +22,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::kernel::Kernel;
-use crate::scene::{Problem, Scene, SceneError};
+use crate::scene::{Problem, Scene, SceneError, WallVelocity};
 use neighbours::{Displacements, Entry, NeighbourList};
 use step::{Forces, Params, State};
 
@@ -38,6 +38,11 @@ pub fn pass_flops_per_pair(problem: &Problem) -> u32 {
             step::FORCE_PAIR_FLOPS_AV
         } else {
             step::FORCE_PAIR_FLOPS
+        }
+        + if problem.scene.wall_velocity == WallVelocity::Mirrored {
+            step::FORCE_PAIR_FLOPS_MIRROR
+        } else {
+            0
         }
 }
 

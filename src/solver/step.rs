@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::lattice::Lattice;
 use super::neighbours::{Displacements, Entry, NeighbourList, LANES};
 use crate::kernel::Kernel;
-use crate::scene::{Initial, PressureForm, Problem};
+use crate::scene::{Initial, PressureForm, Problem, WallVelocity};
 
 /// Particles per parallel task: large enough that a task outweighs rayon's
 /// overhead on the small scenes this problem needs.
@@ -40,6 +40,9 @@ pub(crate) struct State {
     pub y0: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
+    /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
+    /// for the walls (which never move), 0 for the fluid. For mirrored walls.
+    pub depth: Vec<f64>,
     /// What the density pass leaves for the force pass: (dW/dq)/q of every
     /// listed pair (0 beyond the support and for padding), in the neighbour
     /// list's slots (`near_stride` per particle), so the kernel is evaluated
@@ -67,8 +70,19 @@ impl State {
                 vx[i] = problem.flow.steady(y[i]);
             }
         }
+        let b = lattice.b();
+        let depth = (0..n)
+            .map(|i| {
+                if i < n_fluid {
+                    0.0
+                } else {
+                    (y[i].abs() - b).max(0.0)
+                }
+            })
+            .collect();
         State {
             n_fluid,
+            depth,
             vpx: vx.clone(),
             vx,
             vy: vec![0.0; n],
@@ -106,6 +120,7 @@ impl State {
             &self.p_rho2,
             &self.x0,
             &self.y0,
+            &self.depth,
         ]
         .iter()
         .map(|v| v.capacity())
@@ -161,6 +176,19 @@ pub(crate) struct Params {
     pub visc: f64,
     /// Body force along +x.
     pub body: f64,
+    /// Walls mirror the fluid's velocity in the viscous term ([`forces`]).
+    pub mirror_walls: bool,
+    /// The no-slip plane |y| = B.
+    pub b: f64,
+    /// The cap on the mirrored walls' factor beta = 1 + D_j / g_i: the
+    /// largest beta of the undisturbed lattice (the deepest wall layer, at
+    /// D = (layers - 1) dy, seen from the first fluid layer, g = dy), so
+    /// that only a fluid particle nearer the plane than one layer spacing
+    /// is capped, and a particle reaching the plane does not take an
+    /// unbounded viscous force. Morris, Fox and Zhu (1997) capped at 1.5
+    /// with two wall layers in reach; one, two and three layers give 1, 2
+    /// and 3 here.
+    pub beta_max: f64,
 }
 
 impl Params {
@@ -179,6 +207,9 @@ impl Params {
             av: problem.scene.alpha * problem.c0 * h * problem.mass,
             visc: 2.0 * problem.mu,
             body: problem.flow.p,
+            mirror_walls: problem.scene.wall_velocity == WallVelocity::Mirrored,
+            b: problem.lattice.b(),
+            beta_max: f64::from(problem.lattice.wall_layers.max(1)),
         }
     }
 
@@ -575,6 +606,9 @@ impl Forces {
 /// scale (3), its two terms (4).
 pub(crate) const FORCE_PAIR_FLOPS: u32 = 18;
 pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
+/// Mirrored walls add the factor beta: a product, a min and a sum (3), and
+/// its product with the viscous scale (1).
+pub(crate) const FORCE_PAIR_FLOPS_MIRROR: u32 = 4;
 
 /// The particle-level factors of the force terms.
 #[derive(Clone, Copy)]
@@ -585,10 +619,16 @@ struct Scales {
     av: f64,
     /// 2 mu / rho_i.
     visc: f64,
+    /// 1 / (B - |y_i|), the inverse distance to the no-slip plane (mirrored
+    /// walls only).
+    inv_gap: f64,
+    /// The largest factor beta of mirrored walls ([`Params::beta_max`]).
+    beta_max: f64,
 }
 
 /// One particle's force inputs: i, its padded list and (dW/dq)/q, (x, y),
-/// (vx, vy) predicted, P or P/rho^2, m/rho, the image offsets, its scales.
+/// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the image
+/// offsets, its scales.
 type ForceArgs<'a> = (
     usize,
     &'a [u32],
@@ -596,7 +636,7 @@ type ForceArgs<'a> = (
     (&'a [f64], &'a [f64]),
     (&'a [f64], &'a [f64]),
     &'a [f64],
-    &'a [f64],
+    (&'a [f64], &'a [f64]),
     &'a [f64; 4],
     Scales,
 );
@@ -608,8 +648,11 @@ type ForceArgs<'a> = (
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn pair_forces_avx512<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
-    pair_forces::<AV>(args, scratch)
+unsafe fn pair_forces_avx512<const AV: bool, const MIRROR: bool>(
+    args: ForceArgs,
+    scratch: &mut Scratch,
+) -> (f64, f64) {
+    pair_forces::<AV, MIRROR>(args, scratch)
 }
 
 /// [`pair_forces`] for AVX2.
@@ -619,22 +662,29 @@ unsafe fn pair_forces_avx512<const AV: bool>(args: ForceArgs, scratch: &mut Scra
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn pair_forces_avx2<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
-    pair_forces::<AV>(args, scratch)
+unsafe fn pair_forces_avx2<const AV: bool, const MIRROR: bool>(
+    args: ForceArgs,
+    scratch: &mut Scratch,
+) -> (f64, f64) {
+    pair_forces::<AV, MIRROR>(args, scratch)
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
 /// loops without branches or bounds checks, as in [`pair_w`].
 #[inline(always)]
-fn pair_forces<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, f64) {
-    let (i, entries, g, xs, vs, pq, vol, images, sc) = args;
+fn pair_forces<const AV: bool, const MIRROR: bool>(
+    args: ForceArgs,
+    scratch: &mut Scratch,
+) -> (f64, f64) {
+    let (i, entries, g, xs, vs, pq, (vol, depth), images, sc) = args;
     let (x, y) = xs;
     let (vpx, vpy) = vs;
     let n = x.len();
     assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
-    assert!(pq.len() == n && vol.len() == n);
+    assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
     let last = n - 1;
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
+    let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
     let (cx, cy) = (&mut scratch.0, &mut scratch.1);
@@ -647,7 +697,13 @@ fn pair_forces<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, 
             let dy = yi - y[j];
             let p = sc.pressure * (pqi + pq[j]);
             let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
-            let l = sc.visc * vol[j];
+            let mut l = sc.visc * vol[j];
+            if MIRROR {
+                // A wall particle at depth D beyond the no-slip plane shows
+                // fluid particle i, at distance g from it, the velocity
+                // -(D / g) v_i: the velocity difference grows by beta.
+                l *= 1.0 + (depth[j] * sc.inv_gap).min(beta_cap);
+            }
             let (mut fx, mut fy) = (l * dvx - p * dx, l * dvy - p * dy);
             if AV {
                 // Only approaching pairs (v_ij . r_ij < 0), branch-free.
@@ -678,19 +734,37 @@ fn pair_forces<const AV: bool>(args: ForceArgs, scratch: &mut Scratch) -> (f64, 
 /// - artificial viscosity (31): (alpha c0 h m / rho_i) sum over approaching
 ///   pairs of (v_ij . r_ij) / r_ij^2 grad_i W_ij, repulsive;
 /// - viscosity, the Laplacian (14) with the right sign on both components:
-///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij;
+///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij; with mirrored
+///   walls (Morris, Fox and Zhu 1997), a wall particle j at depth D_j beyond
+///   the no-slip plane shows fluid particle i, at distance g_i from it, the
+///   velocity -(D_j / g_i) v_i, so v_i - v_j = beta v_i with
+///   beta = min(1 + D_j / g_i, beta_max) ([`Params::beta_max`]);
 /// - the body force p along +x.
 pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
     let isa = Isa::detect();
     match (prm.symmetric, prm.av != 0.0) {
-        (true, true) => forces_with::<true, true>(s, list, prm, half_dt, isa),
-        (true, false) => forces_with::<true, false>(s, list, prm, half_dt, isa),
-        (false, true) => forces_with::<false, true>(s, list, prm, half_dt, isa),
-        (false, false) => forces_with::<false, false>(s, list, prm, half_dt, isa),
+        (true, true) => forces_walls::<true, true>(s, list, prm, half_dt, isa),
+        (true, false) => forces_walls::<true, false>(s, list, prm, half_dt, isa),
+        (false, true) => forces_walls::<false, true>(s, list, prm, half_dt, isa),
+        (false, false) => forces_walls::<false, false>(s, list, prm, half_dt, isa),
     }
 }
 
-fn forces_with<const SYMMETRIC: bool, const AV: bool>(
+fn forces_walls<const SYMMETRIC: bool, const AV: bool>(
+    s: &mut State,
+    list: &NeighbourList,
+    prm: &Params,
+    half_dt: f64,
+    isa: Isa,
+) -> Forces {
+    if prm.mirror_walls {
+        forces_with::<SYMMETRIC, AV, true>(s, list, prm, half_dt, isa)
+    } else {
+        forces_with::<SYMMETRIC, AV, false>(s, list, prm, half_dt, isa)
+    }
+}
+
+fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     s: &mut State,
     list: &NeighbourList,
     prm: &Params,
@@ -701,7 +775,7 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
     let stride = s.near_stride;
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
-    let (rho, vol) = (&s.rho[..n], &s.vol[..n]);
+    let (rho, vol, depth) = (&s.rho[..n], &s.vol[..n], &s.depth[..n]);
     let pq = if SYMMETRIC {
         &s.p_rho2[..n]
     } else {
@@ -714,6 +788,7 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
         vpy,
         rho,
         vol,
+        depth,
         pq,
         near_g: &s.near_g,
         list,
@@ -733,10 +808,10 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool>(
         .map(|(c, out)| match isa {
             // SAFETY: Isa::detect found the CPU features.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { forces_chunk_avx512::<SYMMETRIC, AV>(c, out, &inp) },
+            Isa::Avx512 => unsafe { forces_chunk_avx512::<SYMMETRIC, AV, MIRROR>(c, out, &inp) },
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { forces_chunk_avx2::<SYMMETRIC, AV>(c, out, &inp) },
-            Isa::Base => forces_chunk::<SYMMETRIC, AV>(c, out, &inp),
+            Isa::Avx2 => unsafe { forces_chunk_avx2::<SYMMETRIC, AV, MIRROR>(c, out, &inp) },
+            Isa::Base => forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, &inp),
         })
         .reduce(|| Forces::NONE, Forces::merge)
 }
@@ -749,6 +824,7 @@ struct ForcesIn<'a> {
     vpy: &'a [f64],
     rho: &'a [f64],
     vol: &'a [f64],
+    depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
     pq: &'a [f64],
     near_g: &'a [f64],
@@ -768,12 +844,12 @@ type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn forces_chunk_avx512<const SYMMETRIC: bool, const AV: bool>(
+unsafe fn forces_chunk_avx512<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     c: usize,
     out: ForcesOut,
     inp: &ForcesIn,
 ) -> Forces {
-    forces_chunk::<SYMMETRIC, AV>(c, out, inp)
+    forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, inp)
 }
 
 /// [`forces_chunk`] for AVX2.
@@ -782,17 +858,17 @@ unsafe fn forces_chunk_avx512<const SYMMETRIC: bool, const AV: bool>(
 /// The CPU must have AVX2 ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn forces_chunk_avx2<const SYMMETRIC: bool, const AV: bool>(
+unsafe fn forces_chunk_avx2<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     c: usize,
     out: ForcesOut,
     inp: &ForcesIn,
 ) -> Forces {
-    forces_chunk::<SYMMETRIC, AV>(c, out, inp)
+    forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, inp)
 }
 
 /// Accelerations and the closing kick for the fluid particles of task `c`.
 #[inline(always)]
-fn forces_chunk<const SYMMETRIC: bool, const AV: bool>(
+fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     c: usize,
     out: ForcesOut,
     inp: &ForcesIn,
@@ -814,6 +890,10 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool>(
             },
             av: prm.av * inv_rho,
             visc: prm.visc * inv_rho,
+            // Capped by beta_max anyway: a particle at the plane is no
+            // division by zero.
+            inv_gap: 1.0 / (prm.b - inp.y[i].abs()).max(f64::MIN_POSITIVE),
+            beta_max: prm.beta_max,
         };
         let args = (
             i,
@@ -822,11 +902,11 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool>(
             (inp.x, inp.y),
             (inp.vpx, inp.vpy),
             inp.pq,
-            inp.vol,
+            (inp.vol, inp.depth),
             &inp.images,
             sc,
         );
-        let (fx, fy) = pair_forces::<AV>(args, scratch);
+        let (fx, fy) = pair_forces::<AV, MIRROR>(args, scratch);
         let axi = prm.grad_scale * fx + prm.body;
         let ayi = prm.grad_scale * fy;
         ax[k] = axi;
@@ -868,6 +948,8 @@ mod tests {
             pressure: 0.7,
             av: 0.3,
             visc: 0.2,
+            inv_gap: 0.9,
+            beta_max: 3.0,
         };
         let run = |isa: Isa| {
             let mut g = vec![0.0; entries.len()];
@@ -893,16 +975,16 @@ mod tests {
                 (&x[..], &y[..]),
                 (&v[..], &v[..]),
                 &v[..],
-                &x[..],
+                (&x[..], &y[..]),
                 &images,
                 sc,
             );
             let f = match isa {
                 #[cfg(target_arch = "x86_64")]
-                Isa::Avx512 => unsafe { pair_forces_avx512::<true>(args, scratch) },
+                Isa::Avx512 => unsafe { pair_forces_avx512::<true, true>(args, scratch) },
                 #[cfg(target_arch = "x86_64")]
-                Isa::Avx2 => unsafe { pair_forces_avx2::<true>(args, scratch) },
-                Isa::Base => pair_forces::<true>(args, scratch),
+                Isa::Avx2 => unsafe { pair_forces_avx2::<true, true>(args, scratch) },
+                Isa::Base => pair_forces::<true, true>(args, scratch),
             };
             let mut bits: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
             bits.extend([w.to_bits(), f.0.to_bits(), f.1.to_bits()]);
