@@ -477,6 +477,8 @@ pub struct PeerRun {
     pub code: String,
     /// The walls' velocity in the viscous term (`zero`: the paper's walls).
     pub wall_velocity: WallVelocity,
+    /// Layers in the half-width (35 is the matched resolution).
+    pub layers: u32,
     pub particles: usize,
     pub n_fluid: usize,
     pub n_wall: usize,
@@ -501,12 +503,16 @@ pub struct PeerRun {
 /// reach equal t nu / B^2. N = 35 layers in the half-width (h = 35 dy / 30 =
 /// 1.0104 d) and a strip 22 columns wide: 1650 particles with the walls,
 /// against PySPH's 1680 (24 x 60 fluid, 2 x 5 x 24 wall).
-pub fn pysph_match_problem(wall_velocity: WallVelocity) -> Result<Problem> {
-    let n_layers = 35;
+///
+/// `layers` other than [`PYSPH_MATCH_LAYERS`] gives the same flow at another
+/// resolution (the same h / d, so h / B = 35 / (30 N)), on the narrowest
+/// strip: for the time shearsph takes to reach PySPH's accuracy.
+pub fn pysph_match_problem(wall_velocity: WallVelocity, layers: u32) -> Result<Problem> {
+    let n_layers = layers;
     let scene = Scene {
         kernel: "morris".into(),
         n_layers,
-        h_over_d: f64::from(n_layers) * 0.5 * 3f64.sqrt() / 30.0,
+        h_over_d: f64::from(PYSPH_MATCH_LAYERS) * 0.5 * 3f64.sqrt() / 30.0,
         re: Some(0.00625),
         p: None,
         c0: "rule10".parse().expect("a valid c0 rule"),
@@ -517,22 +523,38 @@ pub fn pysph_match_problem(wall_velocity: WallVelocity) -> Result<Problem> {
         ..Scene::builtin()
     };
     let mut problem = Problem::new(&scene, scene.kernel_info()?)?;
-    // A wider strip than the kernel needs, to match the particle count:
-    // the flow does not depend on x.
-    let lat = &mut problem.lattice;
-    lat.columns = 22;
-    lat.width = f64::from(lat.columns) * lat.d;
+    if layers == PYSPH_MATCH_LAYERS {
+        // A wider strip than the kernel needs, to match the particle count:
+        // the flow does not depend on x.
+        let lat = &mut problem.lattice;
+        lat.columns = 22;
+        lat.width = f64::from(lat.columns) * lat.d;
+    }
     Ok(problem)
 }
 
-pub fn pysph_match(steps: u64, threads: usize, wall_velocity: WallVelocity) -> Result<PeerRun> {
-    let problem = pysph_match_problem(wall_velocity)?;
+/// Layers in the half-width of the scene matched to PySPH's resolution.
+pub const PYSPH_MATCH_LAYERS: u32 = 35;
+
+/// `steps` steps of the matched scene, or with `layers` other than 35 the
+/// steps that reach the same t nu / B^2 (the viscous limit binds: steps
+/// scale as layers^2).
+pub fn pysph_match(
+    steps: u64,
+    threads: usize,
+    wall_velocity: WallVelocity,
+    layers: u32,
+) -> Result<PeerRun> {
+    let problem = pysph_match_problem(wall_velocity, layers)?;
+    let scale = (f64::from(layers) / f64::from(PYSPH_MATCH_LAYERS)).powi(2);
+    let steps = ((steps as f64 * scale).round() as u64).max(1);
     let (r, _) = measure(&problem, steps, threads)?;
     let particles = r.n_fluid + r.n_wall;
     let flow = &problem.flow;
     Ok(PeerRun {
         code: "shearsph (morris = quintic spline)".into(),
         wall_velocity,
+        layers,
         particles,
         n_fluid: r.n_fluid,
         n_wall: r.n_wall,

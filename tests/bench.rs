@@ -147,3 +147,32 @@ fn pysph_matched_scene_is_matched() {
     positive(&r, "particle_steps_per_s");
     positive(&r, "linf_rel_err");
 }
+
+#[test]
+fn coarser_pysph_scenes_reach_the_same_time_and_mirrored_walls_are_the_default() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["bench", "--pysph-match", "--steps", "400", "--threads", "1"];
+        args.extend_from_slice(extra);
+        json(&shearsph(&args))
+    };
+    let matched = run(&[]);
+    assert_eq!(matched["wall_velocity"].as_str(), Some("mirrored"));
+    assert_eq!(matched["layers"].as_u64(), Some(35));
+    // 10 layers: steps scaled by (10/35)^2, the same t nu / B^2 up to the
+    // rounding of the step count.
+    let coarse = run(&["--layers", "10"]);
+    assert_eq!(coarse["steps"].as_u64(), Some(33));
+    assert!(coarse["particles"].as_u64().unwrap() < 400);
+    let (a, b) = (
+        matched["tau"].as_f64().unwrap(),
+        coarse["tau"].as_f64().unwrap(),
+    );
+    assert!((b / a - 1.0).abs() < 0.02, "tau {a} against {b}");
+    // The paper's walls at rest on request, and a coarser scene is less
+    // accurate than the matched one.
+    let zero = run(&["--wall-velocity", "zero"]);
+    assert_eq!(zero["wall_velocity"].as_str(), Some("zero"));
+    let err = |r: &serde_json::Value| r["linf_rel_err"].as_f64().unwrap();
+    assert!(err(&coarse) > err(&matched));
+    assert!(err(&zero) > err(&matched));
+}

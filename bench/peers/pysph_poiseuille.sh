@@ -7,7 +7,10 @@
 # run alternately. Prints each round, the median throughputs (particle-steps
 # per second, steps alone, set-up excluded in both), their ratio, and both
 # L_inf errors of the layer-mean velocity against the start-up series, as a
-# fraction of Vmax, at the time both reach.
+# fraction of Vmax, at the time both reach. Then the same flow in shearsph at
+# coarser resolutions, and the time the coarsest one no less accurate than
+# PySPH takes against PySPH's. shearsph's walls are mirrored (no-slip at y =
+# B, as PySPH's are); WALLS=zero runs the paper's walls at rest instead.
 #
 # usage: bench/peers/pysph_poiseuille.sh [STEPS=2000] [ROUNDS=3] [THREADS=2]
 #
@@ -20,6 +23,7 @@ ROOT=$(cd "$HERE/../.." && pwd)
 STEPS=${1:-2000}
 ROUNDS=${2:-3}
 THREADS=${3:-2}
+WALLS=${WALLS:-mirrored}
 
 VENV=$(bash "$HERE/pysph_setup.sh")
 (cd "$ROOT" && cargo build --release --quiet)
@@ -41,6 +45,11 @@ for r in $(seq "$ROUNDS"); do
   echo "round $r/$ROUNDS: pysph, $STEPS steps on $THREADS threads" >&2
   pysph "$STEPS" "$WORK/pysph-$r" >> "$WORK/pysph.jsonl"
   echo "round $r/$ROUNDS: shearsph" >&2
-  "$BIN" bench --pysph-match --steps "$STEPS" --threads "$THREADS" >> "$WORK/shearsph.jsonl"
+  "$BIN" bench --pysph-match --steps "$STEPS" --threads "$THREADS" --wall-velocity "$WALLS" >> "$WORK/shearsph.jsonl"
 done
-python3 "$HERE/peer_summary.py" "$WORK/pysph.jsonl" "$WORK/shearsph.jsonl"
+# The time shearsph takes to reach PySPH's accuracy: the same flow to the
+# same t nu / B^2 at coarser resolutions (one run each, same threads).
+for n in 35 30 24 20 16 14 12 10 8 7 6; do
+  "$BIN" bench --pysph-match --steps "$STEPS" --threads "$THREADS" --wall-velocity "$WALLS" --layers "$n" >> "$WORK/ladder.jsonl"
+done
+python3 "$HERE/peer_summary.py" "$WORK/pysph.jsonl" "$WORK/shearsph.jsonl" "$WORK/ladder.jsonl"

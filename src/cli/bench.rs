@@ -46,6 +46,11 @@ pub struct BenchArgs {
     /// wall PySPH's example uses).
     #[arg(long, default_value = "mirrored", requires = "pysph_match")]
     pub wall_velocity: WallVelocity,
+    /// With --pysph-match: layers in the half-width. 35 is PySPH's
+    /// resolution; fewer run the same flow coarser, to the same t nu / B^2
+    /// (`--steps` scaled by (layers / 35)^2): the time to reach an accuracy.
+    #[arg(long, default_value_t = bench::PYSPH_MATCH_LAYERS, requires = "pysph_match")]
+    pub layers: u32,
 }
 
 fn parse_count(s: &str) -> Result<usize, String> {
@@ -67,7 +72,12 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
             .first()
             .copied()
             .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
-        let run = bench::pysph_match(args.steps.unwrap_or(2000), threads, args.wall_velocity)?;
+        let run = bench::pysph_match(
+            args.steps.unwrap_or(2000),
+            threads,
+            args.wall_velocity,
+            args.layers,
+        )?;
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);
     }
