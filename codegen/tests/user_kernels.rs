@@ -144,43 +144,83 @@ fn unknown_symbol() {
 }
 
 #[test]
-fn more_bad_inputs() {
-    // a floating-point support is not exact
+fn floating_point_support_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 1.5\n[[w]]\nto = 1\nexpr = \"q\"\n"
     ));
+    assert_eq!(e.field, "support");
     assert!(e.message.contains("floating-point"), "{e}");
-    // pieces out of order
+    assert!(
+        e.fix.contains("\"3/2\""),
+        "the fix names the exact form: {e}"
+    );
+}
+
+#[test]
+fn pieces_out_of_order_are_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 2\n[[w]]\nto = 2\nexpr = \"q\"\n[[w]]\nto = 1\nexpr = \"q\"\n"
     ));
+    assert_eq!(e.field, "w[1].to");
     assert!(e.message.contains("out of order"), "{e}");
-    // last piece does not reach the support
+}
+
+#[test]
+fn overlapping_pieces_are_refused() {
+    // Two pieces ending at the same q: the second covers no interval.
+    let e = err(&format!(
+        "{GOOD_HEAD}support = 2\n[[w]]\nto = 1\nexpr = \"q\"\n[[w]]\nto = 1\nexpr = \"q\"\n[[w]]\nto = 2\nexpr = \"q\"\n"
+    ));
+    assert_eq!(e.field, "w[1].to");
+    assert!(e.message.contains("out of order"), "{e}");
+}
+
+#[test]
+fn last_piece_short_of_the_support_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 2\n[[w]]\nto = 1\nexpr = \"q\"\n"
     ));
     assert!(e.message.contains("but the support is 2"), "{e}");
-    // division by zero and by q
+}
+
+#[test]
+fn division_by_zero_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 1\n[[w]]\nto = 1\nexpr = \"1/(1 - 1)\"\n"
     ));
+    assert_eq!(e.field, "w[0].expr");
     assert!(e.message.contains("division by zero"), "{e}");
+}
+
+#[test]
+fn division_by_q_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 1\n[[w]]\nto = 1\nexpr = \"1/q\"\n"
     ));
+    assert_eq!(e.field, "w[0].expr");
     assert!(e.message.contains("division by an expression in q"), "{e}");
-    // unknown key
+}
+
+#[test]
+fn unknown_key_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 1\ncolour = 3\n[[w]]\nto = 1\nexpr = \"q\"\n"
     ));
     assert!(e.message.contains("unknown field `colour`"), "{e}");
     assert_eq!(e.field, "colour");
-    // support too large
+}
+
+#[test]
+fn support_too_large_for_the_lattice_enumeration_is_refused() {
     let e = err(&format!(
         "{GOOD_HEAD}support = 40\n[[w]]\nto = 40\nexpr = \"q\"\n"
     ));
+    assert_eq!(e.field, "support");
     assert!(e.message.contains("too large"), "{e}");
-    // bad name
+}
+
+#[test]
+fn name_that_is_not_an_identifier_is_refused() {
     let e =
         err("name = \"Bad Name\"\nreference = \"x\"\nsupport = 1\n[[w]]\nto = 1\nexpr = \"q\"\n");
     assert_eq!(e.field, "name");
