@@ -185,9 +185,8 @@ pub(crate) struct Params {
     /// D = (layers - 1) dy, seen from the first fluid layer, g = dy), so
     /// that only a fluid particle nearer the plane than one layer spacing
     /// is capped, and a particle reaching the plane does not take an
-    /// unbounded viscous force. Morris, Fox and Zhu (1997) capped at 1.5
-    /// with two wall layers in reach; one, two and three layers give 1, 2
-    /// and 3 here.
+    /// unbounded viscous force. Morris, Fox and Zhu (1997) capped it at
+    /// 1.5; one, two and three wall layers give 1, 2 and 3 here.
     pub beta_max: f64,
 }
 
