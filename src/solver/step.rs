@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::lattice::Lattice;
-use super::neighbours::{Displacements, Entry, NeighbourList, LANES};
+use super::neighbours::{padded, Displacements, Entry, NeighbourList, LANES};
 use crate::kernel::Kernel;
 use crate::scene::{Initial, PressureForm, Problem, WallVelocity};
 
@@ -49,6 +49,11 @@ pub(crate) struct State {
     /// once per pair and step and the force pass has no distance test.
     pub near_g: Vec<f64>,
     pub near_stride: usize,
+    /// The density pass's own: W and (dW/dq)/q of each pair, evaluated
+    /// once, in the slot of the entry it was evaluated for
+    /// ([`NeighbourList::own`]), and after them a slot kept at zero.
+    pub pair_w: Vec<f64>,
+    pub pair_g: Vec<f64>,
 }
 
 impl State {
@@ -100,6 +105,8 @@ impl State {
             layer,
             near_g: Vec::new(),
             near_stride: 0,
+            pair_w: Vec::new(),
+            pair_g: Vec::new(),
         }
     }
 
@@ -125,7 +132,8 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        (f64s + self.near_g.capacity()) * size_of::<f64>()
+        (f64s + self.near_g.capacity() + self.pair_w.capacity() + self.pair_g.capacity())
+            * size_of::<f64>()
             + self.layer.capacity() * size_of::<u32>()
     }
 
@@ -357,77 +365,72 @@ impl Isa {
     }
 }
 
-/// [`pair_w`] for AVX-512 (8 lanes), alone: the passes call it through
-/// [`density_chunk_avx512`]; the test that compares ISAs calls it directly.
+/// [`pair_kernel`] for AVX-512 (8 lanes), alone: the passes call it through
+/// [`kernel_chunk_avx512`]; the test that compares ISAs calls it directly.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn pair_w_avx512<K: Kernel>(
-    xi: f64,
-    yi: f64,
+unsafe fn pair_kernel_avx512<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
-    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+) {
+    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
 }
 
-/// [`pair_w`] for AVX2 (4 lanes).
+/// [`pair_kernel`] for AVX2 (4 lanes).
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`Isa::detect`]).
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn pair_w_avx2<K: Kernel>(
-    xi: f64,
-    yi: f64,
+unsafe fn pair_kernel_avx2<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
-    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+) {
+    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
 }
 
-/// Sum of W over a particle's padded list, and (dW/dq)/q of each entry into
-/// `g_out`. Three loops without branches or bounds checks, so that they
-/// vectorise: distances (a gather), the kernel (all pieces, then a select),
-/// and the sum in LANES accumulators (a fixed order: the result does not
-/// depend on how the loops are compiled).
-#[allow(clippy::too_many_arguments)]
+/// W and (dW/dq)/q of each of the entries of the particle at `at` into
+/// `out` (W, g), with its neighbours' positions `xs`. Two loops without
+/// branches or bounds checks, so that they vectorise: distances (a gather)
+/// and the kernel (all pieces, then a select). Element by element: the
+/// results do not depend on how the loops are compiled.
 #[inline(always)]
-fn pair_w<K: Kernel>(
-    xi: f64,
-    yi: f64,
+fn pair_kernel<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
+) {
+    let ((xi, yi), (x, y), (w_out, g_out)) = (at, xs, out);
     let n = x.len();
     assert!(n > 0 && y.len() == n);
     // Every index is clamped into the arrays: no bounds check (an index
     // is below n by construction of the list anyway).
     let last = n - 1;
-    let mut acc = [0.0; LANES];
-    let (q2, w) = (&mut scratch.0, &mut scratch.1);
-    for (block, g_block) in entries.chunks(BLOCK).zip(g_out.chunks_mut(BLOCK)) {
+    let q2 = &mut scratch.0;
+    for ((block, w_block), g_block) in entries
+        .chunks(BLOCK)
+        .zip(w_out.chunks_mut(BLOCK))
+        .zip(g_out.chunks_mut(BLOCK))
+    {
         let m = block.len();
         for (q2, &e) in q2[..m].iter_mut().zip(block) {
             let j = Entry::index(e).min(last);
@@ -435,13 +438,62 @@ fn pair_w<K: Kernel>(
             let dy = yi - y[j];
             *q2 = (dx * dx + dy * dy) * inv_h2;
         }
-        for ((&q2, w), g) in q2[..m].iter().zip(&mut w[..m]).zip(g_block.iter_mut()) {
+        for ((&q2, w), g) in q2[..m].iter().zip(w_block).zip(g_block) {
             (*w, *g) = K::w_dw_over_q_lanes(q2);
         }
-        for c in w[..m].chunks_exact(LANES) {
-            for l in 0..LANES {
-                acc[l] += c[l];
-            }
+    }
+}
+
+/// [`pair_gather`] for AVX-512.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(test)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn pair_gather_avx512(
+    sources: &[u32],
+    pair_w: &[f64],
+    pair_g: &[f64],
+    g_out: &mut [f64],
+) -> f64 {
+    pair_gather(sources, pair_w, pair_g, g_out)
+}
+
+/// [`pair_gather`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(test)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn pair_gather_avx2(
+    sources: &[u32],
+    pair_w: &[f64],
+    pair_g: &[f64],
+    g_out: &mut [f64],
+) -> f64 {
+    pair_gather(sources, pair_w, pair_g, g_out)
+}
+
+/// Sum of W over a particle's padded slots, and (dW/dq)/q of each into
+/// `g_out`, both taken from the slots `sources` name
+/// ([`NeighbourList::sources_padded`]). The sum runs in LANES accumulators
+/// (a fixed order: the result does not depend on how the loop is compiled).
+#[inline(always)]
+fn pair_gather(sources: &[u32], pair_w: &[f64], pair_g: &[f64], g_out: &mut [f64]) -> f64 {
+    let n = pair_w.len();
+    assert!(n > 0 && pair_g.len() == n);
+    let last = n - 1;
+    let mut acc = [0.0; LANES];
+    for (src, g) in sources
+        .chunks_exact(LANES)
+        .zip(g_out.chunks_exact_mut(LANES))
+    {
+        for l in 0..LANES {
+            let k = (src[l] as usize).min(last);
+            acc[l] += pair_w[k];
+            g[l] = pair_g[k];
         }
     }
     lane_sum(acc)
@@ -449,8 +501,11 @@ fn pair_w<K: Kernel>(
 
 /// Density by summation (11) over fluid and wall neighbours, self included,
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
-/// fluid. W and (dW/dq)/q come from one fused evaluation per pair; the
-/// latter is kept for [`forces`].
+/// fluid. Two passes: the kernel, W and (dW/dq)/q from one fused
+/// evaluation, once per pair, on the lists' own entries
+/// ([`NeighbourList::own`]); then per particle the sum of W over all its
+/// slots, each taken from where it was evaluated, and the (dW/dq)/q of
+/// every slot kept for [`forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
     density_with::<K>(s, list, prm, Isa::detect())
 }
@@ -460,9 +515,15 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
     let nf = s.n_fluid;
     // Room for the longest list: grows only when a rebuild lengthened it.
     let stride = list.stride();
+    let slots = list.slots();
     if s.near_stride != stride {
         s.near_stride = stride;
-        s.near_g.resize(n * stride, 0.0);
+        s.near_g.resize(slots, 0.0);
+        // And the zero slot that padding reads, never written.
+        s.pair_w.resize(slots + 1, 0.0);
+        s.pair_g.resize(slots + 1, 0.0);
+        s.pair_w[slots] = 0.0;
+        s.pair_g[slots] = 0.0;
     }
     let inp = DensityIn {
         x: &s.x[..n],
@@ -473,6 +534,21 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
         nf,
         stride,
     };
+    (
+        s.pair_w[..slots].par_chunks_mut(CHUNK * stride),
+        s.pair_g[..slots].par_chunks_mut(CHUNK * stride),
+    )
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(c, out)| match isa {
+            // SAFETY: Isa::detect found the CPU features.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { kernel_chunk_avx512::<K>(c, out, &inp) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { kernel_chunk_avx2::<K>(c, out, &inp) },
+            Isa::Base => kernel_chunk::<K>(c, out, &inp),
+        });
+    let (pair_w, pair_g) = (&s.pair_w[..], &s.pair_g[..]);
     (
         s.rho.par_chunks_mut(CHUNK),
         s.press.par_chunks_mut(CHUNK),
@@ -485,10 +561,10 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
         .map(|(c, out)| match isa {
             // SAFETY: Isa::detect found the CPU features.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp) },
+            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp, pair_w, pair_g) },
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp) },
-            Isa::Base => density_chunk::<K>(c, out, &inp),
+            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp, pair_w, pair_g) },
+            Isa::Base => density_chunk::<K>(c, out, &inp, pair_w, pair_g),
         })
         .reduce(|| f64::NEG_INFINITY, f64::max)
 }
@@ -504,6 +580,58 @@ struct DensityIn<'a> {
     stride: usize,
 }
 
+/// One task's outputs of the kernel pass: the W and (dW/dq)/q slots.
+type KernelOut<'a> = (&'a mut [f64], &'a mut [f64]);
+
+/// [`kernel_chunk`] for AVX-512: one call per task, so that the vector
+/// code's set-up is paid per task, not per particle.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn kernel_chunk_avx512<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    kernel_chunk::<K>(c, out, inp)
+}
+
+/// [`kernel_chunk`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn kernel_chunk_avx2<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    kernel_chunk::<K>(c, out, inp)
+}
+
+/// W and (dW/dq)/q of the own entries of the particles of task `c`, in
+/// whole groups of LANES: the few entries past the own ones that this
+/// takes are evaluated too (their slots are never read), rather than left
+/// to a scalar remainder.
+#[inline(always)]
+fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    let (pair_w, pair_g) = out;
+    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+    for (k, (w_out, g_out)) in pair_w
+        .chunks_exact_mut(inp.stride)
+        .zip(pair_g.chunks_exact_mut(inp.stride))
+        .enumerate()
+    {
+        let i = c * CHUNK + k;
+        let own = padded(inp.list.own(i));
+        let entries = &inp.list.of_padded(i)[..own];
+        pair_kernel::<K>(
+            (inp.x[i], inp.y[i]),
+            entries,
+            (inp.x, inp.y),
+            &inp.images,
+            inp.prm.inv_h2,
+            (&mut w_out[..own], &mut g_out[..own]),
+            scratch,
+        );
+    }
+}
+
 /// One task's outputs: rho, P, m/rho, P/rho^2 and the (dW/dq)/q slots.
 type DensityOut<'a> = (
     &'a mut [f64],
@@ -513,15 +641,20 @@ type DensityOut<'a> = (
     &'a mut [f64],
 );
 
-/// [`density_chunk`] for AVX-512: one call per task, so that the vector
-/// code's set-up is paid per task, not per particle.
+/// [`density_chunk`] for AVX-512.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn density_chunk_avx512<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
-    density_chunk::<K>(c, out, inp)
+unsafe fn density_chunk_avx512<K: Kernel>(
+    c: usize,
+    out: DensityOut,
+    inp: &DensityIn,
+    pair_w: &[f64],
+    pair_g: &[f64],
+) -> f64 {
+    density_chunk::<K>(c, out, inp, pair_w, pair_g)
 }
 
 /// [`density_chunk`] for AVX2.
@@ -530,34 +663,36 @@ unsafe fn density_chunk_avx512<K: Kernel>(c: usize, out: DensityOut, inp: &Densi
 /// The CPU must have AVX2 ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn density_chunk_avx2<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
-    density_chunk::<K>(c, out, inp)
+unsafe fn density_chunk_avx2<K: Kernel>(
+    c: usize,
+    out: DensityOut,
+    inp: &DensityIn,
+    pair_w: &[f64],
+    pair_g: &[f64],
+) -> f64 {
+    density_chunk::<K>(c, out, inp, pair_w, pair_g)
 }
 
-/// Density, EOS and the pairs' (dW/dq)/q for the particles of task `c`;
-/// returns their largest fluid compaction.
+/// Density, EOS and the pairs' (dW/dq)/q for the particles of task `c`,
+/// from the kernel pass's `pair_w` and `pair_g`; returns their largest
+/// fluid compaction.
 #[inline(always)]
-fn density_chunk<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
+fn density_chunk<K: Kernel>(
+    c: usize,
+    out: DensityOut,
+    inp: &DensityIn,
+    pair_w: &[f64],
+    pair_g: &[f64],
+) -> f64 {
     let (rho, press, vol, p_rho2, near_g) = out;
-    let (x, y, prm) = (inp.x, inp.y, inp.prm);
+    let prm = inp.prm;
     let w_self = K::w(0.0);
-    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
     let mut max_eps = f64::NEG_INFINITY;
     for (k, g_out) in near_g.chunks_exact_mut(inp.stride).enumerate() {
         let i = c * CHUNK + k;
-        let entries = inp.list.of_padded(i);
-        let g_out = &mut g_out[..entries.len()];
-        let pairs = pair_w::<K>(
-            x[i],
-            y[i],
-            entries,
-            x,
-            y,
-            &inp.images,
-            prm.inv_h2,
-            g_out,
-            scratch,
-        );
+        let sources = inp.list.sources_padded(i);
+        let g_out = &mut g_out[..sources.len()];
+        let pairs = pair_gather(sources, pair_w, pair_g, g_out);
         let sum = w_self + pairs;
         let r = prm.mass_over_h2 * sum;
         let p = prm.pressure(r);
@@ -670,7 +805,7 @@ unsafe fn pair_forces_avx2<const AV: bool, const MIRROR: bool>(
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
-/// loops without branches or bounds checks, as in [`pair_w`].
+/// loops without branches or bounds checks, as in [`pair_kernel`].
 #[inline(always)]
 fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
@@ -951,21 +1086,33 @@ mod tests {
             inv_gap: 0.9,
             beta_max: 3.0,
         };
+        // Where each slot's kernel values come from: a permutation of the
+        // evaluated slots, and for the padding the zero slot after them.
+        let sources: Vec<u32> = (0..entries.len() as u32)
+            .map(|s| if s < 37 { (s * 7 + 3) % 37 } else { 40 })
+            .collect();
         let run = |isa: Isa| {
+            let mut w = vec![0.0; entries.len() + 1];
+            let mut pg = vec![0.0; entries.len() + 1];
             let mut g = vec![0.0; entries.len()];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let (xi, yi) = (x[0], y[0]);
-            let w = match isa {
+            let at = (x[0], y[0]);
+            let xs = (&x[..], &y[..]);
+            let out = (&mut w[..40], &mut pg[..40]);
+            let w_sum = match isa {
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx512 => unsafe {
-                    pair_w_avx512::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel_avx512::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather_avx512(&sources, &w, &pg, &mut g)
                 },
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => unsafe {
-                    pair_w_avx2::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel_avx2::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather_avx2(&sources, &w, &pg, &mut g)
                 },
                 Isa::Base => {
-                    pair_w::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather(&sources, &w, &pg, &mut g)
                 }
             };
             let args = (
@@ -987,7 +1134,7 @@ mod tests {
                 Isa::Base => pair_forces::<true, true>(args, scratch),
             };
             let mut bits: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
-            bits.extend([w.to_bits(), f.0.to_bits(), f.1.to_bits()]);
+            bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
             bits
         };
         let base = run(Isa::Base);
