@@ -43,17 +43,16 @@ pub(crate) struct State {
     /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
     /// for the walls (which never move), 0 for the fluid. For mirrored walls.
     pub depth: Vec<f64>,
-    /// What the density pass leaves for the force pass: (dW/dq)/q of every
-    /// listed pair (0 beyond the support and for padding), in the neighbour
-    /// list's slots (`near_stride` per particle), so the kernel is evaluated
-    /// once per pair and step and the force pass has no distance test.
-    pub near_g: Vec<f64>,
-    pub near_stride: usize,
-    /// The density pass's own: W and (dW/dq)/q of each pair, evaluated
-    /// once, in the slot of the entry it was evaluated for
-    /// ([`NeighbourList::own`]), and after them a slot kept at zero.
+    /// What the density pass leaves for the force pass: W and (dW/dq)/q of
+    /// every listed pair (0 beyond the support), evaluated once per pair
+    /// and step, in the slot (`near_stride` per particle) of the entry it
+    /// was evaluated for ([`NeighbourList::own`]), and after them a slot
+    /// kept at zero for padding; each entry finds its pair's through
+    /// [`NeighbourList::sources_padded`]. The force pass has no distance
+    /// test and no kernel.
     pub pair_w: Vec<f64>,
     pub pair_g: Vec<f64>,
+    pub near_stride: usize,
 }
 
 impl State {
@@ -103,7 +102,6 @@ impl State {
             x,
             y,
             layer,
-            near_g: Vec::new(),
             near_stride: 0,
             pair_w: Vec::new(),
             pair_g: Vec::new(),
@@ -132,8 +130,7 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        (f64s + self.near_g.capacity() + self.pair_w.capacity() + self.pair_g.capacity())
-            * size_of::<f64>()
+        (f64s + self.pair_w.capacity() + self.pair_g.capacity()) * size_of::<f64>()
             + self.layer.capacity() * size_of::<u32>()
     }
 
@@ -451,13 +448,8 @@ fn pair_kernel<K: Kernel>(
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn pair_gather_avx512(
-    sources: &[u32],
-    pair_w: &[f64],
-    pair_g: &[f64],
-    g_out: &mut [f64],
-) -> f64 {
-    pair_gather(sources, pair_w, pair_g, g_out)
+unsafe fn pair_gather_avx512(sources: &[u32], pair_w: &[f64]) -> f64 {
+    pair_gather(sources, pair_w)
 }
 
 /// [`pair_gather`] for AVX2.
@@ -467,33 +459,22 @@ unsafe fn pair_gather_avx512(
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn pair_gather_avx2(
-    sources: &[u32],
-    pair_w: &[f64],
-    pair_g: &[f64],
-    g_out: &mut [f64],
-) -> f64 {
-    pair_gather(sources, pair_w, pair_g, g_out)
+unsafe fn pair_gather_avx2(sources: &[u32], pair_w: &[f64]) -> f64 {
+    pair_gather(sources, pair_w)
 }
 
-/// Sum of W over a particle's padded slots, and (dW/dq)/q of each into
-/// `g_out`, both taken from the slots `sources` name
-/// ([`NeighbourList::sources_padded`]). The sum runs in LANES accumulators
-/// (a fixed order: the result does not depend on how the loop is compiled).
+/// Sum of W over a particle's padded slots, taken from the slots `sources`
+/// name ([`NeighbourList::sources_padded`]), in LANES accumulators (a fixed
+/// order: the result does not depend on how the loop is compiled).
 #[inline(always)]
-fn pair_gather(sources: &[u32], pair_w: &[f64], pair_g: &[f64], g_out: &mut [f64]) -> f64 {
+fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
     let n = pair_w.len();
-    assert!(n > 0 && pair_g.len() == n);
+    assert!(n > 0);
     let last = n - 1;
     let mut acc = [0.0; LANES];
-    for (src, g) in sources
-        .chunks_exact(LANES)
-        .zip(g_out.chunks_exact_mut(LANES))
-    {
+    for src in sources.chunks_exact(LANES) {
         for l in 0..LANES {
-            let k = (src[l] as usize).min(last);
-            acc[l] += pair_w[k];
-            g[l] = pair_g[k];
+            acc[l] += pair_w[(src[l] as usize).min(last)];
         }
     }
     lane_sum(acc)
@@ -518,7 +499,6 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
     let slots = list.slots();
     if s.near_stride != stride {
         s.near_stride = stride;
-        s.near_g.resize(slots, 0.0);
         // And the zero slot that padding reads, never written.
         s.pair_w.resize(slots + 1, 0.0);
         s.pair_g.resize(slots + 1, 0.0);
@@ -548,23 +528,22 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
             Isa::Avx2 => unsafe { kernel_chunk_avx2::<K>(c, out, &inp) },
             Isa::Base => kernel_chunk::<K>(c, out, &inp),
         });
-    let (pair_w, pair_g) = (&s.pair_w[..], &s.pair_g[..]);
+    let pair_w = &s.pair_w[..];
     (
         s.rho.par_chunks_mut(CHUNK),
         s.press.par_chunks_mut(CHUNK),
         s.vol.par_chunks_mut(CHUNK),
         s.p_rho2.par_chunks_mut(CHUNK),
-        s.near_g.par_chunks_mut(CHUNK * stride),
     )
         .into_par_iter()
         .enumerate()
         .map(|(c, out)| match isa {
             // SAFETY: Isa::detect found the CPU features.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp, pair_w, pair_g) },
+            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp, pair_w) },
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp, pair_w, pair_g) },
-            Isa::Base => density_chunk::<K>(c, out, &inp, pair_w, pair_g),
+            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp, pair_w) },
+            Isa::Base => density_chunk::<K>(c, out, &inp, pair_w),
         })
         .reduce(|| f64::NEG_INFINITY, f64::max)
 }
@@ -632,14 +611,8 @@ fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
     }
 }
 
-/// One task's outputs: rho, P, m/rho, P/rho^2 and the (dW/dq)/q slots.
-type DensityOut<'a> = (
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-);
+/// One task's outputs: rho, P, m/rho, P/rho^2.
+type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
 /// [`density_chunk`] for AVX-512.
 ///
@@ -652,9 +625,8 @@ unsafe fn density_chunk_avx512<K: Kernel>(
     out: DensityOut,
     inp: &DensityIn,
     pair_w: &[f64],
-    pair_g: &[f64],
 ) -> f64 {
-    density_chunk::<K>(c, out, inp, pair_w, pair_g)
+    density_chunk::<K>(c, out, inp, pair_w)
 }
 
 /// [`density_chunk`] for AVX2.
@@ -668,31 +640,21 @@ unsafe fn density_chunk_avx2<K: Kernel>(
     out: DensityOut,
     inp: &DensityIn,
     pair_w: &[f64],
-    pair_g: &[f64],
 ) -> f64 {
-    density_chunk::<K>(c, out, inp, pair_w, pair_g)
+    density_chunk::<K>(c, out, inp, pair_w)
 }
 
-/// Density, EOS and the pairs' (dW/dq)/q for the particles of task `c`,
-/// from the kernel pass's `pair_w` and `pair_g`; returns their largest
-/// fluid compaction.
+/// Density and EOS for the particles of task `c`, from the kernel pass's
+/// `pair_w`; returns their largest fluid compaction.
 #[inline(always)]
-fn density_chunk<K: Kernel>(
-    c: usize,
-    out: DensityOut,
-    inp: &DensityIn,
-    pair_w: &[f64],
-    pair_g: &[f64],
-) -> f64 {
-    let (rho, press, vol, p_rho2, near_g) = out;
+fn density_chunk<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn, pair_w: &[f64]) -> f64 {
+    let (rho, press, vol, p_rho2) = out;
     let prm = inp.prm;
     let w_self = K::w(0.0);
     let mut max_eps = f64::NEG_INFINITY;
-    for (k, g_out) in near_g.chunks_exact_mut(inp.stride).enumerate() {
+    for k in 0..rho.len() {
         let i = c * CHUNK + k;
-        let sources = inp.list.sources_padded(i);
-        let g_out = &mut g_out[..sources.len()];
-        let pairs = pair_gather(sources, pair_w, pair_g, g_out);
+        let pairs = pair_gather(inp.list.sources_padded(i), pair_w);
         let sum = w_self + pairs;
         let r = prm.mass_over_h2 * sum;
         let p = prm.pressure(r);
@@ -761,13 +723,14 @@ struct Scales {
     beta_max: f64,
 }
 
-/// One particle's force inputs: i, its padded list and (dW/dq)/q, (x, y),
+/// One particle's force inputs: i, its padded list, its slots' sources and
+/// the (dW/dq)/q they point into, (x, y),
 /// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the image
 /// offsets, its scales.
 type ForceArgs<'a> = (
     usize,
     &'a [u32],
-    &'a [f64],
+    (&'a [u32], &'a [f64]),
     (&'a [f64], &'a [f64]),
     (&'a [f64], &'a [f64]),
     &'a [f64],
@@ -811,22 +774,30 @@ fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
     scratch: &mut Scratch,
 ) -> (f64, f64) {
-    let (i, entries, g, xs, vs, pq, (vol, depth), images, sc) = args;
+    let (i, entries, (sources, pair_g), xs, vs, pq, (vol, depth), images, sc) = args;
     let (x, y) = xs;
     let (vpx, vpy) = vs;
     let n = x.len();
     assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
     assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
+    assert!(!pair_g.is_empty());
     let last = n - 1;
+    let last_g = pair_g.len() - 1;
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
     let (cx, cy) = (&mut scratch.0, &mut scratch.1);
-    for (block, g_block) in entries.chunks(BLOCK).zip(g.chunks(BLOCK)) {
+    for (block, src_block) in entries.chunks(BLOCK).zip(sources.chunks(BLOCK)) {
         let m = block.len();
-        for (((cx, cy), &e), &g) in cx[..m].iter_mut().zip(&mut cy[..m]).zip(block).zip(g_block) {
+        for (((cx, cy), &e), &src) in cx[..m]
+            .iter_mut()
+            .zip(&mut cy[..m])
+            .zip(block)
+            .zip(src_block)
+        {
             let j = Entry::index(e).min(last);
+            let g = pair_g[(src as usize).min(last_g)];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
             let dx = xi - x[j] + images[Entry::image(e)];
             let dy = yi - y[j];
@@ -907,7 +878,6 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     isa: Isa,
 ) -> Forces {
     let nf = s.n_fluid;
-    let stride = s.near_stride;
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
     let (rho, vol, depth) = (&s.rho[..n], &s.vol[..n], &s.depth[..n]);
@@ -925,11 +895,10 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
         vol,
         depth,
         pq,
-        near_g: &s.near_g,
+        pair_g: &s.pair_g,
         list,
         images: list.images(),
         prm,
-        stride,
         half_dt,
     };
     (
@@ -962,11 +931,10 @@ struct ForcesIn<'a> {
     depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
     pq: &'a [f64],
-    near_g: &'a [f64],
+    pair_g: &'a [f64],
     list: &'a NeighbourList,
     images: [f64; 4],
     prm: &'a Params,
-    stride: usize,
     half_dt: f64,
 }
 
@@ -1015,7 +983,7 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     for k in 0..ax.len() {
         let i = c * CHUNK + k;
         let entries = inp.list.of_padded(i);
-        let g = &inp.near_g[i * inp.stride..i * inp.stride + entries.len()];
+        let sources = inp.list.sources_padded(i);
         let inv_rho = 1.0 / inp.rho[i];
         let sc = Scales {
             pressure: if SYMMETRIC {
@@ -1033,7 +1001,7 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
         let args = (
             i,
             entries,
-            g,
+            (sources, inp.pair_g),
             (inp.x, inp.y),
             (inp.vpx, inp.vpy),
             inp.pq,
@@ -1094,7 +1062,6 @@ mod tests {
         let run = |isa: Isa| {
             let mut w = vec![0.0; entries.len() + 1];
             let mut pg = vec![0.0; entries.len() + 1];
-            let mut g = vec![0.0; entries.len()];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
             let at = (x[0], y[0]);
             let xs = (&x[..], &y[..]);
@@ -1103,22 +1070,22 @@ mod tests {
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx512 => unsafe {
                     pair_kernel_avx512::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
-                    pair_gather_avx512(&sources, &w, &pg, &mut g)
+                    pair_gather_avx512(&sources, &w)
                 },
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => unsafe {
                     pair_kernel_avx2::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
-                    pair_gather_avx2(&sources, &w, &pg, &mut g)
+                    pair_gather_avx2(&sources, &w)
                 },
                 Isa::Base => {
                     pair_kernel::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
-                    pair_gather(&sources, &w, &pg, &mut g)
+                    pair_gather(&sources, &w)
                 }
             };
             let args = (
                 0,
                 &entries[..],
-                &g[..],
+                (&sources[..], &pg[..]),
                 (&x[..], &y[..]),
                 (&v[..], &v[..]),
                 &v[..],
@@ -1133,7 +1100,7 @@ mod tests {
                 Isa::Avx2 => unsafe { pair_forces_avx2::<true, true>(args, scratch) },
                 Isa::Base => pair_forces::<true, true>(args, scratch),
             };
-            let mut bits: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
+            let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
             bits
         };
