@@ -31,6 +31,12 @@ pub struct NeighbourList {
     stride: usize,
     count: Vec<u32>,
     entries: Vec<u32>,
+    /// Of each list, how many entries come first as the particle's own
+    /// ([`Self::own`]): the pairs whose kernel it evaluates.
+    own: Vec<u32>,
+    /// For every slot, where its pair's kernel values are (see
+    /// [`Self::sources_padded`]).
+    source: Vec<u32>,
     /// x offset of each image code, see [`Entry::image`].
     images: [f64; 4],
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
@@ -172,6 +178,33 @@ impl NeighbourList {
         self.stride
     }
 
+    /// How many of i's entries, at the head of its list, are its own: the
+    /// pairs (i, j) with j > i, and i's own image through +W. Every other
+    /// entry (j, image) is the mirror of an own entry (i, mirrored image)
+    /// of j, the same pair seen from j: its q^2 is the same bits (the offset
+    /// is negated exactly), so is its kernel. The density pass evaluates the
+    /// kernel on own entries only, once per pair (Newton's third law).
+    #[inline]
+    pub fn own(&self, i: usize) -> usize {
+        self.own[i] as usize
+    }
+
+    /// For each of i's padded slots, the slot (`j * stride + slot` in a
+    /// table of [`Self::slots`] + 1) holding its pair's kernel values: its
+    /// own slot for an own entry, the mirror's slot in j's list for the
+    /// others, and [`Self::slots`] (a slot kept at zero) for padding.
+    #[inline]
+    pub fn sources_padded(&self, i: usize) -> &[u32] {
+        let start = i * self.stride;
+        &self.source[start..start + padded(self.count[i] as usize)]
+    }
+
+    /// Slots of the padded table, `particles * stride`: the index of the
+    /// zero slot that padding's [`Self::sources_padded`] point at.
+    pub fn slots(&self) -> usize {
+        self.entries.len()
+    }
+
     /// Total number of listed pairs (each counted from both sides).
     pub fn pairs(&self) -> usize {
         self.count.iter().map(|&c| c as usize).sum()
@@ -181,6 +214,8 @@ impl NeighbourList {
     pub fn bytes(&self) -> usize {
         (self.count.capacity()
             + self.entries.capacity()
+            + self.own.capacity()
+            + self.source.capacity()
             + self.bin_start.capacity()
             + self.bin_items.capacity()
             + self.near_start.capacity()
@@ -239,26 +274,31 @@ impl NeighbourList {
         // list outgrew it (always at the first build).
         let mut count = std::mem::take(&mut self.count);
         count.resize(n, 0);
+        let mut own = std::mem::take(&mut self.own);
+        own.resize(n, 0);
         let mut stride = self.stride.max(LANES);
         loop {
             self.entries.resize(n * stride, 0);
             let longest = self
                 .entries
                 .par_chunks_mut(stride)
-                .zip(count.par_iter_mut())
+                .zip(count.par_iter_mut().zip(own.par_iter_mut()))
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .map_init(Vec::new, |found, (i, (entries, c))| {
+                .map_init(Vec::new, |found, (i, (entries, (c, o)))| {
                     found.clear();
                     visit(i, &mut |j, s, r2| found.push((r2, j, s)));
                     *c = found.len() as u32;
+                    *o = found.iter().filter(|e| is_own(i, e.1, e.2)).count() as u32;
                     if padded(found.len()) <= stride {
-                        // Nearest first: the kernels' piece tests then come
-                        // in runs, which branch prediction follows, for as
-                        // long as the list lives (particles move less than
-                        // the skin). Stable, so ties keep the visiting order;
-                        // r^2 >= 0 sorts as its bits.
-                        found.sort_by_key(|e| e.0.to_bits());
+                        // Own entries first ([`Self::own`]), then the
+                        // mirrored ones; each nearest first: the kernels'
+                        // piece tests then come in runs, which branch
+                        // prediction follows, for as long as the list lives
+                        // (particles move less than the skin). Stable, so
+                        // ties keep the visiting order; r^2 >= 0 sorts as its
+                        // bits.
+                        found.sort_by_key(|e| (!is_own(i, e.1, e.2), e.0.to_bits()));
                         for (slot, &(_, j, s)) in entries.iter_mut().zip(found.iter()) {
                             *slot = Entry::pack(j as usize, s);
                         }
@@ -278,7 +318,46 @@ impl NeighbourList {
         }
         self.stride = stride;
         self.count = count;
+        self.own = own;
+        self.find_sources();
         self.rebuilds += 1;
+    }
+
+    /// Fill [`Self::sources_padded`]: for each mirrored entry (j, image) of
+    /// i, the slot of (i, mirrored image) among j's own entries. The lists
+    /// are symmetric: j lists i through the opposite image exactly when i
+    /// lists j (the same r^2 bits, and bins in reach both ways).
+    fn find_sources(&mut self) {
+        let stride = self.stride;
+        let slots = self.entries.len();
+        assert!(slots < u32::MAX as usize, "at most {} list slots", u32::MAX);
+        let zero = slots as u32;
+        self.source.resize(slots, zero);
+        let (entries, count, own) = (&self.entries, &self.count, &self.own);
+        self.source
+            .par_chunks_mut(stride)
+            .with_min_len(BUILD_CHUNK)
+            .enumerate()
+            .for_each(|(i, source)| {
+                let base = i * stride;
+                let (c, o) = (count[i] as usize, own[i] as usize);
+                for (slot, src) in source.iter_mut().enumerate().take(o) {
+                    *src = (base + slot) as u32;
+                }
+                for (src, &e) in source[o..c].iter_mut().zip(&entries[base + o..base + c]) {
+                    let j = Entry::index(e);
+                    let mirror = Entry::pack(i, 1 - Entry::image(e) as i8);
+                    let from = j * stride;
+                    let k = entries[from..from + own[j] as usize]
+                        .iter()
+                        .position(|&m| m == mirror)
+                        .expect("neighbour lists are symmetric");
+                    *src = (from + k) as u32;
+                }
+                for src in &mut source[c..] {
+                    *src = zero;
+                }
+            });
     }
 
     /// Whether the list may miss a pair within `cutoff - skin`, given each
@@ -356,6 +435,14 @@ impl NeighbourList {
     }
 }
 
+/// Whether the entry (j, image `shift`) of i's list is i's own
+/// ([`NeighbourList::own`]).
+#[inline]
+fn is_own(i: usize, j: u32, shift: i8) -> bool {
+    let j = j as usize;
+    j > i || (j == i && shift == 1)
+}
+
 #[inline]
 fn bin_of(y: f64, ymin: f64, cutoff: f64, n_bins: usize) -> usize {
     (((y - ymin) / cutoff) as usize).min(n_bins - 1)
@@ -409,6 +496,32 @@ mod tests {
                 .collect();
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
+        }
+        // Own entries first; every other one's source is its mirror, an own
+        // entry of its neighbour; padding's the zero slot.
+        let stride = list.stride();
+        for i in 0..x.len() {
+            let (own, count) = (list.own(i), list.of(i).len());
+            assert!(list.of(i)[..own].iter().all(|&e| {
+                let j = Entry::index(e);
+                j > i || (j == i && Entry::image(e) == 2)
+            }));
+            for (slot, &src) in list.sources_padded(i).iter().enumerate() {
+                let src = src as usize;
+                if slot < own {
+                    assert_eq!(src, i * stride + slot);
+                } else if slot < count {
+                    let e = list.of(i)[slot];
+                    let j = Entry::index(e);
+                    assert_eq!(src / stride, j, "particle {i} slot {slot}");
+                    assert!(src % stride < list.own(j));
+                    let m = list.of(j)[src % stride];
+                    assert_eq!(Entry::index(m), i);
+                    assert_eq!(Entry::image(m), 2 - Entry::image(e));
+                } else {
+                    assert_eq!(src, list.slots());
+                }
+            }
         }
     }
 }

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::lattice::Lattice;
-use super::neighbours::{Displacements, Entry, NeighbourList, LANES};
+use super::neighbours::{padded, Displacements, Entry, NeighbourList, LANES};
 use crate::kernel::Kernel;
 use crate::scene::{Initial, PressureForm, Problem, WallVelocity};
 
@@ -43,11 +43,15 @@ pub(crate) struct State {
     /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
     /// for the walls (which never move), 0 for the fluid. For mirrored walls.
     pub depth: Vec<f64>,
-    /// What the density pass leaves for the force pass: (dW/dq)/q of every
-    /// listed pair (0 beyond the support and for padding), in the neighbour
-    /// list's slots (`near_stride` per particle), so the kernel is evaluated
-    /// once per pair and step and the force pass has no distance test.
-    pub near_g: Vec<f64>,
+    /// What the density pass leaves for the force pass: W and (dW/dq)/q of
+    /// every listed pair (0 beyond the support), evaluated once per pair
+    /// and step, in the slot (`near_stride` per particle) of the entry it
+    /// was evaluated for ([`NeighbourList::own`]), and after them a slot
+    /// kept at zero for padding; each entry finds its pair's through
+    /// [`NeighbourList::sources_padded`]. The force pass has no distance
+    /// test and no kernel.
+    pub pair_w: Vec<f64>,
+    pub pair_g: Vec<f64>,
     pub near_stride: usize,
 }
 
@@ -98,8 +102,9 @@ impl State {
             x,
             y,
             layer,
-            near_g: Vec::new(),
             near_stride: 0,
+            pair_w: Vec::new(),
+            pair_g: Vec::new(),
         }
     }
 
@@ -125,7 +130,7 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        (f64s + self.near_g.capacity()) * size_of::<f64>()
+        (f64s + self.pair_w.capacity() + self.pair_g.capacity()) * size_of::<f64>()
             + self.layer.capacity() * size_of::<u32>()
     }
 
@@ -356,77 +361,72 @@ impl Isa {
     }
 }
 
-/// [`pair_w`] for AVX-512 (8 lanes), alone: the passes call it through
-/// [`density_chunk_avx512`]; the test that compares ISAs calls it directly.
+/// [`pair_kernel`] for AVX-512 (8 lanes), alone: the passes call it through
+/// [`kernel_chunk_avx512`]; the test that compares ISAs calls it directly.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn pair_w_avx512<K: Kernel>(
-    xi: f64,
-    yi: f64,
+unsafe fn pair_kernel_avx512<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
-    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+) {
+    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
 }
 
-/// [`pair_w`] for AVX2 (4 lanes).
+/// [`pair_kernel`] for AVX2 (4 lanes).
 ///
 /// # Safety
 /// The CPU must have AVX2 ([`Isa::detect`]).
 #[cfg(test)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn pair_w_avx2<K: Kernel>(
-    xi: f64,
-    yi: f64,
+unsafe fn pair_kernel_avx2<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
-    pair_w::<K>(xi, yi, entries, x, y, images, inv_h2, g_out, scratch)
+) {
+    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
 }
 
-/// Sum of W over a particle's padded list, and (dW/dq)/q of each entry into
-/// `g_out`. Three loops without branches or bounds checks, so that they
-/// vectorise: distances (a gather), the kernel (all pieces, then a select),
-/// and the sum in LANES accumulators (a fixed order: the result does not
-/// depend on how the loops are compiled).
-#[allow(clippy::too_many_arguments)]
+/// W and (dW/dq)/q of each of the entries of the particle at `at` into
+/// `out` (W, g), with its neighbours' positions `xs`. Two loops without
+/// branches or bounds checks, so that they vectorise: distances (a gather)
+/// and the kernel (all pieces, then a select). Element by element: the
+/// results do not depend on how the loops are compiled.
 #[inline(always)]
-fn pair_w<K: Kernel>(
-    xi: f64,
-    yi: f64,
+fn pair_kernel<K: Kernel>(
+    at: (f64, f64),
     entries: &[u32],
-    x: &[f64],
-    y: &[f64],
+    xs: (&[f64], &[f64]),
     images: &[f64; 4],
     inv_h2: f64,
-    g_out: &mut [f64],
+    out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
-) -> f64 {
+) {
+    let ((xi, yi), (x, y), (w_out, g_out)) = (at, xs, out);
     let n = x.len();
     assert!(n > 0 && y.len() == n);
     // Every index is clamped into the arrays: no bounds check (an index
     // is below n by construction of the list anyway).
     let last = n - 1;
-    let mut acc = [0.0; LANES];
-    let (q2, w) = (&mut scratch.0, &mut scratch.1);
-    for (block, g_block) in entries.chunks(BLOCK).zip(g_out.chunks_mut(BLOCK)) {
+    let q2 = &mut scratch.0;
+    for ((block, w_block), g_block) in entries
+        .chunks(BLOCK)
+        .zip(w_out.chunks_mut(BLOCK))
+        .zip(g_out.chunks_mut(BLOCK))
+    {
         let m = block.len();
         for (q2, &e) in q2[..m].iter_mut().zip(block) {
             let j = Entry::index(e).min(last);
@@ -434,13 +434,46 @@ fn pair_w<K: Kernel>(
             let dy = yi - y[j];
             *q2 = (dx * dx + dy * dy) * inv_h2;
         }
-        for ((&q2, w), g) in q2[..m].iter().zip(&mut w[..m]).zip(g_block.iter_mut()) {
+        for ((&q2, w), g) in q2[..m].iter().zip(w_block).zip(g_block) {
             (*w, *g) = K::w_dw_over_q_lanes(q2);
         }
-        for c in w[..m].chunks_exact(LANES) {
-            for l in 0..LANES {
-                acc[l] += c[l];
-            }
+    }
+}
+
+/// [`pair_gather`] for AVX-512.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(test)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn pair_gather_avx512(sources: &[u32], pair_w: &[f64]) -> f64 {
+    pair_gather(sources, pair_w)
+}
+
+/// [`pair_gather`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(test)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn pair_gather_avx2(sources: &[u32], pair_w: &[f64]) -> f64 {
+    pair_gather(sources, pair_w)
+}
+
+/// Sum of W over a particle's padded slots, taken from the slots `sources`
+/// name ([`NeighbourList::sources_padded`]), in LANES accumulators (a fixed
+/// order: the result does not depend on how the loop is compiled).
+#[inline(always)]
+fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
+    let n = pair_w.len();
+    assert!(n > 0);
+    let last = n - 1;
+    let mut acc = [0.0; LANES];
+    for src in sources.chunks_exact(LANES) {
+        for l in 0..LANES {
+            acc[l] += pair_w[(src[l] as usize).min(last)];
         }
     }
     lane_sum(acc)
@@ -448,8 +481,11 @@ fn pair_w<K: Kernel>(
 
 /// Density by summation (11) over fluid and wall neighbours, self included,
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
-/// fluid. W and (dW/dq)/q come from one fused evaluation per pair; the
-/// latter is kept for [`forces`].
+/// fluid. Two passes: the kernel, W and (dW/dq)/q from one fused
+/// evaluation, once per pair, on the lists' own entries
+/// ([`NeighbourList::own`]); then per particle the sum of W over all its
+/// slots, each taken from where it was evaluated, and the (dW/dq)/q of
+/// every slot kept for [`forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
     density_with::<K>(s, list, prm, Isa::detect())
 }
@@ -459,9 +495,14 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
     let nf = s.n_fluid;
     // Room for the longest list: grows only when a rebuild lengthened it.
     let stride = list.stride();
+    let slots = list.slots();
     if s.near_stride != stride {
         s.near_stride = stride;
-        s.near_g.resize(n * stride, 0.0);
+        // And the zero slot that padding reads, never written.
+        s.pair_w.resize(slots + 1, 0.0);
+        s.pair_g.resize(slots + 1, 0.0);
+        s.pair_w[slots] = 0.0;
+        s.pair_g[slots] = 0.0;
     }
     let inp = DensityIn {
         x: &s.x[..n],
@@ -473,21 +514,35 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
         stride,
     };
     (
+        s.pair_w[..slots].par_chunks_mut(CHUNK * stride),
+        s.pair_g[..slots].par_chunks_mut(CHUNK * stride),
+    )
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(c, out)| match isa {
+            // SAFETY: Isa::detect found the CPU features.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { kernel_chunk_avx512::<K>(c, out, &inp) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { kernel_chunk_avx2::<K>(c, out, &inp) },
+            Isa::Base => kernel_chunk::<K>(c, out, &inp),
+        });
+    let pair_w = &s.pair_w[..];
+    (
         s.rho.par_chunks_mut(CHUNK),
         s.press.par_chunks_mut(CHUNK),
         s.vol.par_chunks_mut(CHUNK),
         s.p_rho2.par_chunks_mut(CHUNK),
-        s.near_g.par_chunks_mut(CHUNK * stride),
     )
         .into_par_iter()
         .enumerate()
         .map(|(c, out)| match isa {
             // SAFETY: Isa::detect found the CPU features.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp) },
+            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp, pair_w) },
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp) },
-            Isa::Base => density_chunk::<K>(c, out, &inp),
+            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp, pair_w) },
+            Isa::Base => density_chunk::<K>(c, out, &inp, pair_w),
         })
         .reduce(|| f64::NEG_INFINITY, f64::max)
 }
@@ -503,24 +558,74 @@ struct DensityIn<'a> {
     stride: usize,
 }
 
-/// One task's outputs: rho, P, m/rho, P/rho^2 and the (dW/dq)/q slots.
-type DensityOut<'a> = (
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-);
+/// One task's outputs of the kernel pass: the W and (dW/dq)/q slots.
+type KernelOut<'a> = (&'a mut [f64], &'a mut [f64]);
 
-/// [`density_chunk`] for AVX-512: one call per task, so that the vector
+/// [`kernel_chunk`] for AVX-512: one call per task, so that the vector
 /// code's set-up is paid per task, not per particle.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn density_chunk_avx512<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
-    density_chunk::<K>(c, out, inp)
+unsafe fn kernel_chunk_avx512<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    kernel_chunk::<K>(c, out, inp)
+}
+
+/// [`kernel_chunk`] for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn kernel_chunk_avx2<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    kernel_chunk::<K>(c, out, inp)
+}
+
+/// W and (dW/dq)/q of the own entries of the particles of task `c`, in
+/// whole groups of LANES: the few entries past the own ones that this
+/// takes are evaluated too (their slots are never read), rather than left
+/// to a scalar remainder.
+#[inline(always)]
+fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
+    let (pair_w, pair_g) = out;
+    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+    for (k, (w_out, g_out)) in pair_w
+        .chunks_exact_mut(inp.stride)
+        .zip(pair_g.chunks_exact_mut(inp.stride))
+        .enumerate()
+    {
+        let i = c * CHUNK + k;
+        let own = padded(inp.list.own(i));
+        let entries = &inp.list.of_padded(i)[..own];
+        pair_kernel::<K>(
+            (inp.x[i], inp.y[i]),
+            entries,
+            (inp.x, inp.y),
+            &inp.images,
+            inp.prm.inv_h2,
+            (&mut w_out[..own], &mut g_out[..own]),
+            scratch,
+        );
+    }
+}
+
+/// One task's outputs: rho, P, m/rho, P/rho^2.
+type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
+
+/// [`density_chunk`] for AVX-512.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+unsafe fn density_chunk_avx512<K: Kernel>(
+    c: usize,
+    out: DensityOut,
+    inp: &DensityIn,
+    pair_w: &[f64],
+) -> f64 {
+    density_chunk::<K>(c, out, inp, pair_w)
 }
 
 /// [`density_chunk`] for AVX2.
@@ -529,34 +634,26 @@ unsafe fn density_chunk_avx512<K: Kernel>(c: usize, out: DensityOut, inp: &Densi
 /// The CPU must have AVX2 ([`Isa::detect`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn density_chunk_avx2<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
-    density_chunk::<K>(c, out, inp)
+unsafe fn density_chunk_avx2<K: Kernel>(
+    c: usize,
+    out: DensityOut,
+    inp: &DensityIn,
+    pair_w: &[f64],
+) -> f64 {
+    density_chunk::<K>(c, out, inp, pair_w)
 }
 
-/// Density, EOS and the pairs' (dW/dq)/q for the particles of task `c`;
-/// returns their largest fluid compaction.
+/// Density and EOS for the particles of task `c`, from the kernel pass's
+/// `pair_w`; returns their largest fluid compaction.
 #[inline(always)]
-fn density_chunk<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn) -> f64 {
-    let (rho, press, vol, p_rho2, near_g) = out;
-    let (x, y, prm) = (inp.x, inp.y, inp.prm);
+fn density_chunk<K: Kernel>(c: usize, out: DensityOut, inp: &DensityIn, pair_w: &[f64]) -> f64 {
+    let (rho, press, vol, p_rho2) = out;
+    let prm = inp.prm;
     let w_self = K::w(0.0);
-    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
     let mut max_eps = f64::NEG_INFINITY;
-    for (k, g_out) in near_g.chunks_exact_mut(inp.stride).enumerate() {
+    for k in 0..rho.len() {
         let i = c * CHUNK + k;
-        let entries = inp.list.of_padded(i);
-        let g_out = &mut g_out[..entries.len()];
-        let pairs = pair_w::<K>(
-            x[i],
-            y[i],
-            entries,
-            x,
-            y,
-            &inp.images,
-            prm.inv_h2,
-            g_out,
-            scratch,
-        );
+        let pairs = pair_gather(inp.list.sources_padded(i), pair_w);
         let sum = w_self + pairs;
         let r = prm.mass_over_h2 * sum;
         let p = prm.pressure(r);
@@ -625,13 +722,14 @@ struct Scales {
     beta_max: f64,
 }
 
-/// One particle's force inputs: i, its padded list and (dW/dq)/q, (x, y),
+/// One particle's force inputs: i, its padded list, its slots' sources and
+/// the (dW/dq)/q they point into, (x, y),
 /// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the image
 /// offsets, its scales.
 type ForceArgs<'a> = (
     usize,
     &'a [u32],
-    &'a [f64],
+    (&'a [u32], &'a [f64]),
     (&'a [f64], &'a [f64]),
     (&'a [f64], &'a [f64]),
     &'a [f64],
@@ -669,28 +767,36 @@ unsafe fn pair_forces_avx2<const AV: bool, const MIRROR: bool>(
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
-/// loops without branches or bounds checks, as in [`pair_w`].
+/// loops without branches or bounds checks, as in [`pair_kernel`].
 #[inline(always)]
 fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
     scratch: &mut Scratch,
 ) -> (f64, f64) {
-    let (i, entries, g, xs, vs, pq, (vol, depth), images, sc) = args;
+    let (i, entries, (sources, pair_g), xs, vs, pq, (vol, depth), images, sc) = args;
     let (x, y) = xs;
     let (vpx, vpy) = vs;
     let n = x.len();
     assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
     assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
+    assert!(!pair_g.is_empty());
     let last = n - 1;
+    let last_g = pair_g.len() - 1;
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
     let (cx, cy) = (&mut scratch.0, &mut scratch.1);
-    for (block, g_block) in entries.chunks(BLOCK).zip(g.chunks(BLOCK)) {
+    for (block, src_block) in entries.chunks(BLOCK).zip(sources.chunks(BLOCK)) {
         let m = block.len();
-        for (((cx, cy), &e), &g) in cx[..m].iter_mut().zip(&mut cy[..m]).zip(block).zip(g_block) {
+        for (((cx, cy), &e), &src) in cx[..m]
+            .iter_mut()
+            .zip(&mut cy[..m])
+            .zip(block)
+            .zip(src_block)
+        {
             let j = Entry::index(e).min(last);
+            let g = pair_g[(src as usize).min(last_g)];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
             let dx = xi - x[j] + images[Entry::image(e)];
             let dy = yi - y[j];
@@ -771,7 +877,6 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     isa: Isa,
 ) -> Forces {
     let nf = s.n_fluid;
-    let stride = s.near_stride;
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
     let (rho, vol, depth) = (&s.rho[..n], &s.vol[..n], &s.depth[..n]);
@@ -789,11 +894,10 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
         vol,
         depth,
         pq,
-        near_g: &s.near_g,
+        pair_g: &s.pair_g,
         list,
         images: list.images(),
         prm,
-        stride,
         half_dt,
     };
     (
@@ -826,11 +930,10 @@ struct ForcesIn<'a> {
     depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
     pq: &'a [f64],
-    near_g: &'a [f64],
+    pair_g: &'a [f64],
     list: &'a NeighbourList,
     images: [f64; 4],
     prm: &'a Params,
-    stride: usize,
     half_dt: f64,
 }
 
@@ -879,7 +982,7 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     for k in 0..ax.len() {
         let i = c * CHUNK + k;
         let entries = inp.list.of_padded(i);
-        let g = &inp.near_g[i * inp.stride..i * inp.stride + entries.len()];
+        let sources = inp.list.sources_padded(i);
         let inv_rho = 1.0 / inp.rho[i];
         let sc = Scales {
             pressure: if SYMMETRIC {
@@ -897,7 +1000,7 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
         let args = (
             i,
             entries,
-            g,
+            (sources, inp.pair_g),
             (inp.x, inp.y),
             (inp.vpx, inp.vpy),
             inp.pq,
@@ -950,27 +1053,38 @@ mod tests {
             inv_gap: 0.9,
             beta_max: 3.0,
         };
+        // Where each slot's kernel values come from: a permutation of the
+        // evaluated slots, and for the padding the zero slot after them.
+        let sources: Vec<u32> = (0..entries.len() as u32)
+            .map(|s| if s < 37 { (s * 7 + 3) % 37 } else { 40 })
+            .collect();
         let run = |isa: Isa| {
-            let mut g = vec![0.0; entries.len()];
+            let mut w = vec![0.0; entries.len() + 1];
+            let mut pg = vec![0.0; entries.len() + 1];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let (xi, yi) = (x[0], y[0]);
-            let w = match isa {
+            let at = (x[0], y[0]);
+            let xs = (&x[..], &y[..]);
+            let out = (&mut w[..40], &mut pg[..40]);
+            let w_sum = match isa {
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx512 => unsafe {
-                    pair_w_avx512::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel_avx512::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather_avx512(&sources, &w)
                 },
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => unsafe {
-                    pair_w_avx2::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel_avx2::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather_avx2(&sources, &w)
                 },
                 Isa::Base => {
-                    pair_w::<Morris>(xi, yi, &entries, &x, &y, &images, 0.5, &mut g, scratch)
+                    pair_kernel::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_gather(&sources, &w)
                 }
             };
             let args = (
                 0,
                 &entries[..],
-                &g[..],
+                (&sources[..], &pg[..]),
                 (&x[..], &y[..]),
                 (&v[..], &v[..]),
                 &v[..],
@@ -985,8 +1099,8 @@ mod tests {
                 Isa::Avx2 => unsafe { pair_forces_avx2::<true, true>(args, scratch) },
                 Isa::Base => pair_forces::<true, true>(args, scratch),
             };
-            let mut bits: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
-            bits.extend([w.to_bits(), f.0.to_bits(), f.1.to_bits()]);
+            let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
+            bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
             bits
         };
         let base = run(Isa::Base);
