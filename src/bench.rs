@@ -202,8 +202,10 @@ pub struct Row {
     pub ns_per_pair: f64,
     /// Listed pairs (support + skin) per particle.
     pub listed_per_particle: f64,
-    /// Flops per pair: the kernel's (generator's count) plus the passes'.
-    pub flops_per_pair: u32,
+    /// Useful flops per directed pair in the support: the kernel's
+    /// (generator's count) and the distance, halved (each pair is evaluated
+    /// once for both directions), plus the density sum and the force terms.
+    pub flops_per_pair: f64,
     pub gflops: f64,
     /// gflops over the peak for the instruction set in use, and over the
     /// CPU's best (see `Machine`); for the threads used (threads/cores of it).
@@ -252,17 +254,17 @@ struct Steps<'a> {
 }
 
 impl KernelVisitor for Steps<'_> {
-    type Output = (StepsRun, u32);
-    fn visit<K: Kernel>(self) -> (StepsRun, u32) {
+    type Output = (StepsRun, f64);
+    fn visit<K: Kernel>(self) -> (StepsRun, f64) {
         (
             solver::run_steps::<K>(self.problem, self.steps),
-            K::INFO.flops_per_pair + solver::pass_flops_per_pair(self.problem),
+            solver::flops_per_pair(K::INFO.flops_per_pair, self.problem),
         )
     }
 }
 
 /// Run `steps` steps of `problem` on a pool of `threads`.
-pub fn measure(problem: &Problem, steps: u64, threads: usize) -> Result<(StepsRun, u32)> {
+pub fn measure(problem: &Problem, steps: u64, threads: usize) -> Result<(StepsRun, f64)> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -333,7 +335,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                 let taken = r.steps.max(1) as f64;
                 let per_step = wall / taken;
                 let pairs_per_s = r.pairs_per_step / per_step;
-                let gflops = pairs_per_s * f64::from(flops) * 1e-9;
+                let gflops = pairs_per_s * flops * 1e-9;
                 let share = threads.min(machine.cores) as f64 / machine.cores as f64;
                 rows.push(Row {
                     kernel: kernel.clone(),

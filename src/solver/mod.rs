@@ -28,22 +28,31 @@ use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
 
-/// Floating-point operations per pair of one step's passes besides the
-/// kernel's own (`KernelInfo::flops_per_pair` counts W and (dW/dq)/q):
-/// distances, sums, the force terms. Counted by hand in `step.rs`, beside
-/// each loop.
-pub fn pass_flops_per_pair(problem: &Problem) -> u32 {
-    step::DENSITY_PAIR_FLOPS
-        + if problem.scene.alpha > 0.0 {
-            step::FORCE_PAIR_FLOPS_AV
-        } else {
-            step::FORCE_PAIR_FLOPS
-        }
-        + if problem.scene.wall_velocity == WallVelocity::Mirrored {
-            step::FORCE_PAIR_FLOPS_MIRROR
-        } else {
-            0
-        }
+/// Useful floating-point operations of one step per directed pair within
+/// the support, given the kernel's own count for W and (dW/dq)/q
+/// (`KernelInfo::flops_per_pair`): the kernel and the distance once per
+/// pair for both directions (Newton's third law: half per directed pair),
+/// the density sum and the force terms per directed pair. Counted by hand
+/// in `step.rs`, beside each loop; padding lanes and listed pairs beyond
+/// the support are work done but not counted.
+pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
+    0.5 * f64::from(kernel_flops + step::DENSITY_DISTANCE_FLOPS)
+        + f64::from(step::DENSITY_SUM_FLOPS + force_flops_per_pair(problem))
+}
+
+/// The force pass's floating-point operations per directed pair.
+fn force_flops_per_pair(problem: &Problem) -> u32 {
+    let av = if problem.scene.alpha > 0.0 {
+        step::FORCE_PAIR_FLOPS_AV
+    } else {
+        step::FORCE_PAIR_FLOPS
+    };
+    let mirror = if problem.scene.wall_velocity == WallVelocity::Mirrored {
+        step::FORCE_PAIR_FLOPS_MIRROR
+    } else {
+        0
+    };
+    av + mirror
 }
 
 /// The vector instructions the pair loops run with on this CPU (chosen at

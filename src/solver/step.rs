@@ -301,10 +301,11 @@ pub(crate) fn kick_drift(
         });
 }
 
-/// Floating-point operations per pair in the density pass's loops, the
-/// kernel's (W, (dW/dq)/q) aside: dx with its image, dy (3), q^2 (4), the
-/// sum (1).
-pub(crate) const DENSITY_PAIR_FLOPS: u32 = 8;
+/// Floating-point operations of the density pass, the kernel's (W,
+/// (dW/dq)/q) aside: per pair evaluated (once for both directions), dx with
+/// its image, dy (3) and q^2 (4); per directed pair, the sum of W (1).
+pub(crate) const DENSITY_DISTANCE_FLOPS: u32 = 7;
+pub(crate) const DENSITY_SUM_FLOPS: u32 = 1;
 
 /// Entries a pair loop takes at a time, in buffers on the stack (a whole
 /// number of lane groups; a list longer than this takes several).
