@@ -1,14 +1,14 @@
 //! The solver against the analytic solutions, for every shipped kernel; a
 //! too small c0 ends as `failed`, naming the particle; an observer's stop
-//! ends a run as `interrupted`, keeping its samples; results do not depend
-//! on the thread count.
+//! ends a run as `interrupted`, keeping its samples; mirrored walls remove
+//! the slip of walls at rest; results do not depend on the thread count.
 //!
 //! Tolerances are twice the measured errors (the measured value is in the
 //! comment), on small scenes that finish in seconds.
 
 use shearsph::kernel::{Kernel, KernelVisitor};
 use shearsph::kernels::{self, KERNELS};
-use shearsph::scene::{Initial, Scene};
+use shearsph::scene::{Initial, Scene, WallVelocity};
 use shearsph::solver::{self, Failure, Observer, Outcome, Quiet, RunResult};
 
 /// The test scene: N = 8, Re = 10, the paper's Table 2 sound speed, no
@@ -232,22 +232,14 @@ fn an_observer_stop_ends_the_run_as_interrupted_keeping_its_samples() {
     }
 }
 
-#[test]
-fn results_do_not_depend_on_the_thread_count() {
-    // Big enough for several parallel chunks; perturbed so that every force
-    // term is busy.
-    let mut s = scene("monaghan", Initial::Rest);
-    s.n_layers = 30;
-    s.jitter = 0.02;
-    s.alpha = 0.1;
-    s.c0 = "rule10".parse().unwrap();
-    s.t_end = Some(20.0);
+/// Runs `s` with 1 and 2 threads and asserts bitwise identical results.
+fn assert_thread_count_independent(s: &Scene) {
     let in_pool = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| run(&s))
+            .install(|| run(s))
     };
     let (one, two) = (in_pool(1), in_pool(2));
     assert!(
@@ -272,6 +264,81 @@ fn results_do_not_depend_on_the_thread_count() {
         bits(&two),
         "bitwise identical with 1 and 2 threads"
     );
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    // Big enough for several parallel chunks; perturbed so that every force
+    // term is busy; both wall models.
+    let mut s = scene("monaghan", Initial::Rest);
+    s.n_layers = 30;
+    s.jitter = 0.02;
+    s.alpha = 0.1;
+    s.c0 = "rule10".parse().unwrap();
+    s.t_end = Some(20.0);
+    assert_thread_count_independent(&s);
+    let mut s = scene("morris", Initial::Rest);
+    s.n_layers = 20;
+    s.jitter = 0.02;
+    s.alpha = 0.1;
+    s.c0 = "rule10".parse().unwrap();
+    s.t_end = Some(5.0);
+    s.wall_velocity = WallVelocity::Mirrored;
+    assert_thread_count_independent(&s);
+}
+
+#[test]
+fn mirrored_walls_remove_the_quintic_splines_wall_slip() {
+    // Morris's quintic reaches three wall layers: at rest, they leave a slip
+    // (see MEASURED); mirrored through y = B (Morris, Fox and Zhu 1997), the
+    // fluid's velocity goes through zero at the wall.
+    let zero = run(&scene("morris", Initial::Rest));
+    let mirrored = run(&Scene {
+        wall_velocity: WallVelocity::Mirrored,
+        ..scene("morris", Initial::Rest)
+    });
+    assert!(zero.outcome.is_ok() && mirrored.outcome.is_ok());
+    let (e0, em) = (worst_linf(&zero), worst_linf(&mirrored));
+    // measured 2.358e-2 (walls at rest), 1.697e-3 (mirrored)
+    assert!(em < 3.4e-3, "mirrored walls: worst L_inf {em:.3e} U");
+    assert!(
+        em < 0.2 * e0,
+        "mirrored walls {em:.3e} should be far below walls at rest {e0:.3e}"
+    );
+    // The slip shows as the layer next to the wall running fast.
+    let near_wall = |r: &RunResult| {
+        let last = r.last();
+        let layer = last
+            .profile
+            .iter()
+            .max_by(|a, b| a.y.abs().total_cmp(&b.y.abs()))
+            .expect("layers");
+        (layer.u - r.problem.flow.startup(layer.y, last.t)).abs() / r.problem.flow.u
+    };
+    assert!(near_wall(&mirrored) < near_wall(&zero));
+}
+
+#[test]
+fn mirrored_walls_leave_a_one_layer_wall_unchanged() {
+    // The composite kernel (R = 1) reaches one wall layer, at the no-slip
+    // plane itself (depth 0): mirroring changes nothing, to the bit.
+    let zero = Scene {
+        t_end: Some(2.0),
+        ..scene("composite", Initial::Rest)
+    };
+    let mirrored = Scene {
+        wall_velocity: WallVelocity::Mirrored,
+        ..zero.clone()
+    };
+    let (a, b) = (run(&zero), run(&mirrored));
+    assert_eq!(a.steps, b.steps);
+    let bits = |r: &RunResult| -> Vec<u64> {
+        r.samples
+            .iter()
+            .flat_map(|s| s.profile.iter().map(|l| l.u.to_bits()))
+            .collect()
+    };
+    assert_eq!(bits(&a), bits(&b));
 }
 
 #[test]
