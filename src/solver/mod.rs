@@ -527,13 +527,13 @@ impl<'p> Sim<'p> {
         let inv_h2 = self.prm.inv_h2;
         (0..x.len())
             .map(|i| {
-                let images = self.list.images();
+                let width = self.list.width();
                 self.list
                     .of(i)
                     .iter()
                     .filter(|&&e| {
                         let j = Entry::index(e);
-                        let dx = x[i] - x[j] + images[Entry::image(e)];
+                        let dx = x[i] - x[j] + Entry::offset(e, width);
                         let dy = y[i] - y[j];
                         (dx * dx + dy * dy) * inv_h2 <= K::SUPPORT2_CLOSED
                     })

@@ -37,8 +37,8 @@ pub struct NeighbourList {
     /// For every slot, where its pair's kernel values are (see
     /// [`Self::sources_padded`]).
     source: Vec<u32>,
-    /// x offset of each image code, see [`Entry::image`].
-    images: [f64; 4],
+    /// The strip's width: the images' offsets ([`Entry::offset`]).
+    width: f64,
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
     /// sorted by bin, and where each bin starts.
     bin_start: Vec<u32>,
@@ -54,10 +54,6 @@ pub struct NeighbourList {
 /// [`Entry::padding`]) so the pair loops run in whole groups of lanes.
 pub const LANES: usize = 8;
 
-/// The x offset of the padding entries' image: far out of any support, yet
-/// its square and its products with zero are finite.
-pub const FAR: f64 = 1e100;
-
 /// `n` rounded up to whole groups of [`LANES`].
 #[inline(always)]
 pub fn padded(n: usize) -> usize {
@@ -65,7 +61,8 @@ pub fn padded(n: usize) -> usize {
 }
 
 /// A listed neighbour j of i: its index, and the image it was found through
-/// as a code 0, 1, 2 for the offset -W, 0, +W added to x_i - x_j.
+/// as a code 0, 1, 2 for the offset -W, 0, +W added to x_i - x_j
+/// ([`Entry::offset`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Entry;
 
@@ -81,11 +78,29 @@ impl Entry {
     }
 
     /// A padding entry: particle i itself seen through image code 3, whose
-    /// offset is so far ([`FAR`]) that the pair is out of every kernel's
+    /// offset 2W ([`Entry::offset`]) puts the pair out of every kernel's
     /// support: W = 0, (dW/dq)/q = 0, and so every force term 0.
     #[inline(always)]
     pub fn padding(i: usize) -> u32 {
         i as u32 | (3 << Self::IMAGE_SHIFT)
+    }
+
+    /// The x offset of the entry's image in a strip `width` wide: -W, 0,
+    /// +W for codes 0, 1, 2, and 2W for padding (code 3): beyond every
+    /// support, as the cutoff is below the width. Arithmetic, not a table
+    /// lookup: in the vector loops a lookup is one more gather.
+    #[inline(always)]
+    pub fn offset(e: u32, width: f64) -> f64 {
+        (f64::from(e >> Self::IMAGE_SHIFT) - 1.0) * width
+    }
+
+    /// The index, clamped to `last`: in the pair loops, an index that is
+    /// below the arrays' length whatever the entry, with no bounds check.
+    /// Clamped in 32 bits, so that the vector loops gather with 32-bit
+    /// indices.
+    #[inline(always)]
+    pub fn index_below(e: u32, last: usize) -> usize {
+        (e & Self::INDEX_MASK).min(u32::try_from(last).unwrap_or(u32::MAX)) as usize
     }
 
     #[inline(always)]
@@ -93,8 +108,7 @@ impl Entry {
         (e & Self::INDEX_MASK) as usize
     }
 
-    /// The image code, an index into [`NeighbourList::images`] (always < 4,
-    /// so that lookup needs no bounds check).
+    /// The image code (0 to 3).
     #[inline(always)]
     pub fn image(e: u32) -> usize {
         (e >> Self::IMAGE_SHIFT) as usize
@@ -166,11 +180,11 @@ impl NeighbourList {
         &self.entries[start..start + padded(self.count[i] as usize)]
     }
 
-    /// The x offset to add to x_i - x_j for each image code
-    /// ([`Entry::image`]).
+    /// The width of the strip the list was built for: with
+    /// [`Entry::offset`], the x offset to add to x_i - x_j.
     #[inline]
-    pub fn images(&self) -> [f64; 4] {
-        self.images
+    pub fn width(&self) -> f64 {
+        self.width
     }
 
     /// Slots per particle: no list is longer.
@@ -241,7 +255,7 @@ impl NeighbourList {
             "at most {} particles",
             Entry::MAX_PARTICLES
         );
-        self.images = [-width, 0.0, width, FAR];
+        self.width = width;
         self.find_near_blocks(y, cutoff, block);
         let ymin = self.bin_by_y(y, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
@@ -490,7 +504,7 @@ mod tests {
                 .of(i)
                 .iter()
                 .map(|&e| {
-                    let off = list.images()[Entry::image(e)];
+                    let off = Entry::offset(e, list.width());
                     (Entry::index(e) as u32, (off / l.width).round() as i8)
                 })
                 .collect();

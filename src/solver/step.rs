@@ -374,12 +374,12 @@ unsafe fn pair_kernel_avx512<K: Kernel>(
     at: (f64, f64),
     entries: &[u32],
     xs: (&[f64], &[f64]),
-    images: &[f64; 4],
+    width: f64,
     inv_h2: f64,
     out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
 ) {
-    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
+    pair_kernel::<K>(at, entries, xs, width, inv_h2, out, scratch)
 }
 
 /// [`pair_kernel`] for AVX2 (4 lanes).
@@ -393,12 +393,12 @@ unsafe fn pair_kernel_avx2<K: Kernel>(
     at: (f64, f64),
     entries: &[u32],
     xs: (&[f64], &[f64]),
-    images: &[f64; 4],
+    width: f64,
     inv_h2: f64,
     out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
 ) {
-    pair_kernel::<K>(at, entries, xs, images, inv_h2, out, scratch)
+    pair_kernel::<K>(at, entries, xs, width, inv_h2, out, scratch)
 }
 
 /// W and (dW/dq)/q of each of the entries of the particle at `at` into
@@ -411,7 +411,7 @@ fn pair_kernel<K: Kernel>(
     at: (f64, f64),
     entries: &[u32],
     xs: (&[f64], &[f64]),
-    images: &[f64; 4],
+    width: f64,
     inv_h2: f64,
     out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
@@ -430,8 +430,8 @@ fn pair_kernel<K: Kernel>(
     {
         let m = block.len();
         for (q2, &e) in q2[..m].iter_mut().zip(block) {
-            let j = Entry::index(e).min(last);
-            let dx = xi - x[j] + images[Entry::image(e)];
+            let j = Entry::index_below(e, last);
+            let dx = xi - x[j] + Entry::offset(e, width);
             let dy = yi - y[j];
             *q2 = (dx * dx + dy * dy) * inv_h2;
         }
@@ -509,7 +509,7 @@ fn density_with<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params, is
         x: &s.x[..n],
         y: &s.y[..n],
         list,
-        images: list.images(),
+        width: list.width(),
         prm,
         nf,
         stride,
@@ -553,7 +553,7 @@ struct DensityIn<'a> {
     x: &'a [f64],
     y: &'a [f64],
     list: &'a NeighbourList,
-    images: [f64; 4],
+    width: f64,
     prm: &'a Params,
     nf: usize,
     stride: usize,
@@ -603,7 +603,7 @@ fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
             (inp.x[i], inp.y[i]),
             entries,
             (inp.x, inp.y),
-            &inp.images,
+            inp.width,
             inp.prm.inv_h2,
             (&mut w_out[..own], &mut g_out[..own]),
             scratch,
@@ -725,8 +725,8 @@ struct Scales {
 
 /// One particle's force inputs: i, its padded list, its slots' sources and
 /// the (dW/dq)/q they point into, (x, y),
-/// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the image
-/// offsets, its scales.
+/// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the strip's
+/// width (for the images' offsets), its scales.
 type ForceArgs<'a> = (
     usize,
     &'a [u32],
@@ -735,7 +735,7 @@ type ForceArgs<'a> = (
     (&'a [f64], &'a [f64]),
     &'a [f64],
     (&'a [f64], &'a [f64]),
-    &'a [f64; 4],
+    f64,
     Scales,
 );
 
@@ -774,7 +774,7 @@ fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
     scratch: &mut Scratch,
 ) -> (f64, f64) {
-    let (i, entries, (sources, pair_g), xs, vs, pq, (vol, depth), images, sc) = args;
+    let (i, entries, (sources, pair_g), xs, vs, pq, (vol, depth), width, sc) = args;
     let (x, y) = xs;
     let (vpx, vpy) = vs;
     let n = x.len();
@@ -782,7 +782,7 @@ fn pair_forces<const AV: bool, const MIRROR: bool>(
     assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
     assert!(!pair_g.is_empty());
     let last = n - 1;
-    let last_g = pair_g.len() - 1;
+    let last_g = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
@@ -796,10 +796,10 @@ fn pair_forces<const AV: bool, const MIRROR: bool>(
             .zip(block)
             .zip(src_block)
         {
-            let j = Entry::index(e).min(last);
-            let g = pair_g[(src as usize).min(last_g)];
+            let j = Entry::index_below(e, last);
+            let g = pair_g[src.min(last_g) as usize];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
-            let dx = xi - x[j] + images[Entry::image(e)];
+            let dx = xi - x[j] + Entry::offset(e, width);
             let dy = yi - y[j];
             let p = sc.pressure * (pqi + pq[j]);
             let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
@@ -897,7 +897,7 @@ fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
         pq,
         pair_g: &s.pair_g,
         list,
-        images: list.images(),
+        width: list.width(),
         prm,
         half_dt,
     };
@@ -933,7 +933,7 @@ struct ForcesIn<'a> {
     pq: &'a [f64],
     pair_g: &'a [f64],
     list: &'a NeighbourList,
-    images: [f64; 4],
+    width: f64,
     prm: &'a Params,
     half_dt: f64,
 }
@@ -1006,7 +1006,7 @@ fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
             (inp.vpx, inp.vpy),
             inp.pq,
             (inp.vol, inp.depth),
-            &inp.images,
+            inp.width,
             sc,
         );
         let (fx, fy) = pair_forces::<AV, MIRROR>(args, scratch);
@@ -1041,7 +1041,7 @@ mod tests {
         let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect();
         let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect();
         let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.123).sin()).collect();
-        let images = [-7.0, 0.0, 7.0, super::super::neighbours::FAR];
+        let width = 7.0;
         // 37 neighbours (two whole blocks and a part) and padding.
         let mut entries: Vec<u32> = (1..38)
             .map(|j| Entry::pack(j * 5 % n, (j % 3) as i8 - 1))
@@ -1069,16 +1069,16 @@ mod tests {
             let w_sum = match isa {
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx512 => unsafe {
-                    pair_kernel_avx512::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_kernel_avx512::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
                     pair_gather_avx512(&sources, &w)
                 },
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => unsafe {
-                    pair_kernel_avx2::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_kernel_avx2::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
                     pair_gather_avx2(&sources, &w)
                 },
                 Isa::Base => {
-                    pair_kernel::<Morris>(at, &entries, xs, &images, 0.5, out, scratch);
+                    pair_kernel::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
                     pair_gather(&sources, &w)
                 }
             };
@@ -1090,7 +1090,7 @@ mod tests {
                 (&v[..], &v[..]),
                 &v[..],
                 (&x[..], &y[..]),
-                &images,
+                width,
                 sc,
             );
             let f = match isa {
