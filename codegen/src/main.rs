@@ -60,25 +60,38 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Generate { out } => {
             let start = Instant::now();
             let files = render_all(&cli.kernels)?;
-            let changed = emit::ensure(&out, &files, false)
+            let changes = emit::ensure(&out, &files, false)
                 .with_context(|| format!("writing {}", out.display()))?;
-            for p in &changed {
+            for p in &changes.written {
                 eprintln!("wrote {}", p.display());
             }
+            for p in &changes.removed {
+                eprintln!(
+                    "removed {} (generated earlier, its kernel is gone)",
+                    p.display()
+                );
+            }
+            for p in &changes.foreign {
+                eprintln!("left {} alone (not written by the generator)", p.display());
+            }
             eprintln!(
-                "{} file(s) in {}, {} changed, in {:.2} s",
+                "{} file(s) in {}, {} written, {} removed, in {:.2} s",
                 files.len(),
                 out.display(),
-                changed.len(),
+                changes.written.len(),
+                changes.removed.len(),
                 start.elapsed().as_secs_f64()
             );
         }
         Cmd::Check { out } => {
             let files = render_all(&cli.kernels)?;
-            let stale = emit::ensure(&out, &files, true)?;
-            if !stale.is_empty() {
-                let list: Vec<String> =
-                    stale.iter().map(|p| format!("  {}", p.display())).collect();
+            let changes = emit::ensure(&out, &files, true)?;
+            if !changes.is_empty() {
+                let list: Vec<String> = changes
+                    .stale()
+                    .iter()
+                    .map(|p| format!("  {}", p.display()))
+                    .collect();
                 bail!(
                     "generated code is stale:\n{}\nrun `{}` and commit",
                     list.join("\n"),

@@ -24,9 +24,10 @@ fn render(kernels: &Path) -> Vec<(PathBuf, String)> {
 #[test]
 fn generated_tree_is_fresh() {
     let files = render(&root().join("kernels"));
-    let stale = emit::ensure(&root().join("generated"), &files, true).unwrap();
+    let changes = emit::ensure(&root().join("generated"), &files, true).unwrap();
+    let stale = changes.stale();
     assert!(
-        stale.is_empty(),
+        changes.is_empty(),
         "stale generated files {stale:?}: run `{}` and commit",
         emit::COMMAND
     );
@@ -169,4 +170,97 @@ fn check_fails_after_a_kernel_is_edited_and_bad_kernels_change_nothing() {
         before
     );
     assert!(!out.join("zz.rs").exists());
+}
+
+/// Issue 15, item 1: `generate --out DIR` into a folder of the user's own
+/// files removes none of them, overwrites none of them, and says so; a file
+/// it generated earlier for a kernel since deleted is removed, and named as
+/// removed, not as written.
+#[test]
+fn generate_never_removes_or_overwrites_files_it_did_not_write() {
+    let tmp = tempfile::tempdir().unwrap();
+    let kernels = tmp.path().join("kernels");
+    std::fs::create_dir(&kernels).unwrap();
+    for k in ["monaghan", "composite"] {
+        std::fs::copy(
+            root().join(format!("kernels/{k}.toml")),
+            kernels.join(format!("{k}.toml")),
+        )
+        .unwrap();
+    }
+    let out = tmp.path().join("src");
+    std::fs::create_dir(&out).unwrap();
+    let user_files = [
+        ("lib.rs", "pub mod a;\n"),
+        ("main.rs", "fn main() {}\n"),
+        // mentions the header, but not as its first line
+        (
+            "notes.rs",
+            "// see `cargo run -p shearsph-codegen -- generate`\n",
+        ),
+        ("README.md", "mine\n"),
+    ];
+    for (f, body) in user_files {
+        std::fs::write(out.join(f), body).unwrap();
+    }
+    let run = |args: &[&str]| {
+        codegen_bin()
+            .args(["--kernels", kernels.to_str().unwrap()])
+            .args(args)
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
+    let st = run(&["generate"]);
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let log = String::from_utf8_lossy(&st.stderr).to_string();
+    for (f, body) in user_files {
+        assert_eq!(std::fs::read_to_string(out.join(f)).unwrap(), body, "{f}");
+        if f.ends_with(".rs") {
+            assert!(
+                log.contains(&format!("left {} alone", out.join(f).display())),
+                "{log}"
+            );
+            assert!(!log.contains(&format!("wrote {}", out.join(f).display())));
+        }
+    }
+    assert!(out.join("monaghan.rs").exists() && out.join("registry.rs").exists());
+
+    // delete a kernel: its generated module is removed, and logged as removed
+    std::fs::remove_file(kernels.join("composite.toml")).unwrap();
+    let st = run(&["generate"]);
+    assert!(st.status.success());
+    let log = String::from_utf8_lossy(&st.stderr).to_string();
+    assert!(!out.join("composite.rs").exists());
+    let composite = out.join("composite.rs").display().to_string();
+    assert!(log.contains(&format!("removed {composite}")), "{log}");
+    assert!(!log.contains(&format!("wrote {composite}")), "{log}");
+    for (f, body) in user_files {
+        assert_eq!(std::fs::read_to_string(out.join(f)).unwrap(), body, "{f}");
+    }
+
+    // a hand-written file where a generated one would go is not overwritten
+    std::fs::write(out.join("monaghan.rs"), "// mine\n").unwrap();
+    let st = run(&["generate"]);
+    assert!(!st.status.success());
+    let msg = String::from_utf8_lossy(&st.stderr).to_string();
+    assert!(
+        msg.contains("monaghan.rs") && msg.contains("refusing to overwrite"),
+        "{msg}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("monaghan.rs")).unwrap(),
+        "// mine\n"
+    );
+    // and check reports the same folder as stale without touching it
+    let st = run(&["check"]);
+    assert!(!st.status.success());
+    assert_eq!(
+        std::fs::read_to_string(out.join("lib.rs")).unwrap(),
+        "pub mod a;\n"
+    );
 }
