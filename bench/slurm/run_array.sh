@@ -98,8 +98,15 @@ while [ -n "$(squeue -h)" ]; do
     sleep 2
     [ $(($(date +%s) - start)) -lt 900 ] || { echo "timed out" >&2; exit 1; }
 done
-echo "+ jobs as Slurm recorded them ($W/log/jobcomp.log: id, name, state, start, end)"
-sed -E 's/.*JobId=([^ ]+).*Name=([^ ]+).*JobState=([^ ]+).*StartTime=([^ ]+) EndTime=([^ ]+).*/\1 \2 \3 \4 \5/' "$W/log/jobcomp.log"
+echo "+ the jobs as Slurm recorded them (jobcomp/filetxt; sacct needs slurmdbd, not set up here)"
+python3 - "$W/log/jobcomp.log" <<'PY'
+import sys
+print(f"{'JobId':>6} {'Array':>8} {'Name':>15} {'State':>10} {'Start':>20} {'End':>20} {'Exit':>5}")
+for line in open(sys.argv[1]):
+    f = dict(kv.split("=", 1) for kv in line.split() if "=" in kv)
+    arr = f"{f['ArrayJobId']}_{f['ArrayTaskId']}" if f.get("ArrayTaskId") else ""
+    print(f"{f['JobId']:>6} {arr:>8} {f['Name']:>15} {f['JobState']:>10} {f['StartTime']:>20} {f['EndTime']:>20} {f['ExitCode']:>5}")
+PY
 echo "+ scontrol show job $ARRAY (array summary)"
 scontrol show job "$ARRAY" 2>/dev/null | grep -E "JobId|JobState" || echo "(purged from slurmctld's memory)"
 for f in shearsph-sweep-"$ARRAY"_*.out shearsph-merge-"$MERGE".out; do

@@ -6,8 +6,8 @@
 //! file renamed over the target), and the `.pvd` is rewritten after each
 //! new `.vtu`, so a run stopped at any moment leaves a series ParaView opens.
 //!
-//! Size: about 120 bytes per particle (f64 positions and fields, 64-bit
-//! cell offsets, base64), so 120 kB per 1,000 particles and 12 MB for 1e5
+//! Size: about 125 bytes per particle (f64 positions and fields, 64-bit
+//! cell offsets, base64), so 125 kB per 1,000 particles and 12.5 MB for 1e5
 //! (measured in `tests/particles_vtk.rs`).
 
 use anyhow::{bail, Context, Result};
