@@ -71,8 +71,10 @@ pub fn particle_svg(
             });
         if lo.is_finite() && hi > lo {
             (lo, hi)
+        } else if lo.is_finite() {
+            (lo - 1.0, lo + 1.0)
         } else {
-            (lo.min(0.0).max(-1.0), lo.max(0.0) + 1.0)
+            (-1.0, 1.0)
         }
     };
     let (x0, x1) = range(frame.x);
