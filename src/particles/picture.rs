@@ -126,6 +126,8 @@ pub fn particle_svg(
             .disable_mesh()
             .x_desc("x / d")
             .y_desc("y / d")
+            .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 14))
             .draw()
             .map_err(draw_err)?;
         // a dot a little smaller than the particle spacing
@@ -171,8 +173,8 @@ pub fn particle_svg(
         let mut cb = ChartBuilder::on(&bar)
             .margin_top(40)
             .margin_bottom(45)
-            .margin_right(10)
-            .y_label_area_size(80)
+            .margin_right(30)
+            .y_label_area_size(60)
             .caption(by.label(), ("sans-serif", 15))
             .build_cartesian_2d(0.0..1.0, c0..c1)
             .map_err(draw_err)?;
@@ -180,6 +182,7 @@ pub fn particle_svg(
             .disable_mesh()
             .disable_x_axis()
             .y_labels(6)
+            .y_label_style(("sans-serif", 13))
             .y_label_formatter(&|v| crate::charts::fmt_num(*v))
             .draw()
             .map_err(draw_err)?;
