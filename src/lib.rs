@@ -21,6 +21,7 @@ pub mod bench;
 pub mod charts;
 pub mod cli;
 pub mod output;
+pub mod particles;
 pub mod report;
 pub mod scene;
 pub mod solver;

@@ -185,6 +185,7 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
             decimal(&moment.to_float(prec), 15)
         ),
     });
+    facts.extend(crate::kernel::shape_facts(def));
     let terms_t0 = c0::terms(&def.w, &def.dw, r, Config::T0);
     let terms_half = c0::terms(&def.w, &def.dw, r, Config::Half);
     let sums_t0 = c0::sums(&terms_t0);

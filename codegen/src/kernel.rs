@@ -182,6 +182,17 @@ fn line_col(src: &str, byte: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// A formula as quoted in a message: whole when short, else its start.
+fn shorten(s: &str) -> String {
+    const SHOWN: usize = 60;
+    if s.chars().count() <= SHOWN {
+        s.to_string()
+    } else {
+        let head: String = s.chars().take(SHOWN).collect();
+        format!("{head}... ({} characters)", s.chars().count())
+    }
+}
+
 struct Ctx<'a> {
     file: &'a Path,
     src: &'a str,
@@ -213,7 +224,7 @@ impl Ctx<'_> {
                 file: self.file.to_path_buf(),
                 field: field.to_string(),
                 at: Some((at.0, at.1 + e.column - 1)),
-                message: format!("{} (in `{}`)", e.message, s.get_ref()),
+                message: format!("{} (in `{}`)", e.message, shorten(s.get_ref())),
                 fix: e.fix,
             }
         })
@@ -313,17 +324,8 @@ pub fn parse_kernel(file: &Path, src: &str) -> Result<KernelDef, KernelError> {
         }
     })?;
     let name = raw.name.get_ref().clone();
-    let valid_name = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-        && name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-    if !valid_name {
-        return Err(ctx.err(
-            "name",
-            Some(raw.name.span()),
-            format!("`{name}` is not a valid kernel name"),
-            "use lowercase letters, digits and _, starting with a letter (it names a Rust module)",
-        ));
+    if let Some((message, fix)) = name_problem(&name) {
+        return Err(ctx.err("name", Some(raw.name.span()), message, &fix));
     }
     let support = ctx.rational("support", &raw.support)?;
     if support <= 0 {
@@ -462,13 +464,7 @@ pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
     files.sort();
     let mut out: Vec<KernelDef> = Vec::new();
     for f in files {
-        let src = std::fs::read_to_string(&f).map_err(|e| KernelError {
-            file: f.clone(),
-            field: "(file)".into(),
-            at: None,
-            message: format!("cannot read: {e}"),
-            fix: "check the file's permissions".into(),
-        })?;
+        let src = read_kernel_file(&f)?;
         let def = parse_kernel(&f, &src)?;
         if let Some(other) = out.iter().find(|k| k.name == def.name) {
             return Err(KernelError {
@@ -483,7 +479,580 @@ pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
                 fix: "give every kernel its own name".into(),
             });
         }
+        // the type name is derived (`my_k2` -> `MyK2`): two names may meet in one
+        let ty = crate::emit::type_name(&def.name);
+        if let Some(other) = out.iter().find(|k| crate::emit::type_name(&k.name) == ty) {
+            return Err(KernelError {
+                file: f.clone(),
+                field: "name".into(),
+                at: None,
+                message: format!(
+                    "kernel name `{}` gives the Rust type name `{ty}`, as does `{}` in {}",
+                    def.name,
+                    other.name,
+                    other.file.display()
+                ),
+                fix: "choose names that differ by more than underscores before digits or doubled underscores".into(),
+            });
+        }
         out.push(def);
     }
     Ok(out)
+}
+
+/// Every Rust keyword, strict, reserved and edition-dependent (2015 to 2024):
+/// a kernel's name becomes a module and, capitalised, a type, so none of
+/// these can be one (`self`, `super`, `crate` and `Self` cannot even be raw
+/// identifiers, so `r#name` is no way out).
+pub const RUST_KEYWORDS: &[&str] = &[
+    // strict
+    "as",
+    "break",
+    "const",
+    "continue",
+    "crate",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "fn",
+    "for",
+    "if",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "pub",
+    "ref",
+    "return",
+    "self",
+    "static",
+    "struct",
+    "super",
+    "trait",
+    "true",
+    "type",
+    "unsafe",
+    "use",
+    "where",
+    "while",
+    "async",
+    "await",
+    "dyn",
+    // reserved
+    "abstract",
+    "become",
+    "box",
+    "do",
+    "final",
+    "macro",
+    "override",
+    "priv",
+    "typeof",
+    "unsized",
+    "virtual",
+    "yield",
+    "try",
+    "gen",
+    // weak, kept out so that the module name never reads as syntax
+    "union",
+    "raw",
+    "safe",
+    "macro_rules",
+];
+
+/// Names the generated tree or the crates that include it already use for
+/// a module or file: a kernel with one of these names would shadow or
+/// include it (a kernel `registry` makes `registry.rs` include itself).
+/// Names of further output files are checked against the rendered tree by
+/// [`check_emitted_names`].
+pub const RESERVED_NAMES: &[&str] = &["registry", "kernel", "kernels", "mod", "lib", "main"];
+
+/// Why a kernel name cannot be used, or `None` when it can.
+pub fn name_problem(name: &str) -> Option<(String, String)> {
+    let valid_name = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+    if !valid_name {
+        return Some((
+            format!("`{name}` is not a valid kernel name"),
+            "use lowercase letters, digits and _, starting with a letter (it names a Rust module)"
+                .into(),
+        ));
+    }
+    if RUST_KEYWORDS.contains(&name) {
+        return Some((
+            format!("`{name}` is a Rust keyword, and a kernel's name becomes a Rust module"),
+            format!("choose another name, e.g. `{name}_kernel`"),
+        ));
+    }
+    if RESERVED_NAMES.contains(&name) {
+        return Some((
+            format!(
+                "`{name}` is the name of a module or file of the generated tree or of the crate that includes it ({})",
+                RESERVED_NAMES.join(", ")
+            ),
+            format!("choose another name, e.g. `{name}_kernel`"),
+        ));
+    }
+    None
+}
+
+/// The identifiers in Rust source (doc strings and literals excluded).
+pub fn identifiers(src: &str) -> std::collections::BTreeSet<String> {
+    fn walk(ts: proc_macro2::TokenStream, out: &mut std::collections::BTreeSet<String>) {
+        for t in ts {
+            match t {
+                proc_macro2::TokenTree::Ident(i) => {
+                    out.insert(i.to_string());
+                }
+                proc_macro2::TokenTree::Group(g) => walk(g.stream(), out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = std::collections::BTreeSet::new();
+    if let Ok(ts) = src.parse::<proc_macro2::TokenStream>() {
+        walk(ts, &mut out);
+    }
+    out
+}
+
+/// The stand-in name of kernel `i` in the neutral rendering that
+/// [`check_emitted_names`] compares with.
+pub fn neutral_name(i: usize) -> String {
+    format!("{NEUTRAL_PREFIX}{i}")
+}
+
+const NEUTRAL_PREFIX: &str = "zz_neutral_kernel_";
+
+/// Checks that no kernel's module name, type name or file collides with
+/// anything else the generator writes. `files` is the rendered tree;
+/// `neutral` is the same tree rendered with kernel `i` renamed to
+/// [`neutral_name`]`(i)`: every identifier and file stem in it belongs to the
+/// generator itself (imports, prelude names, functions, generic
+/// parameters, further output files), so a kernel named like one of them
+/// would shadow it. This holds for whatever files and items a future
+/// generator adds, without a list to keep in step.
+pub fn check_emitted_names(
+    defs: &[KernelDef],
+    files: &[(PathBuf, String)],
+    neutral: &[(PathBuf, String)],
+) -> Result<(), KernelError> {
+    let name_err = |d: &KernelDef, message: String| KernelError {
+        file: d.file.clone(),
+        field: "name".into(),
+        at: None,
+        message,
+        fix: format!(
+            "choose another name, e.g. `{}_kernel`, and rename the file to match",
+            d.name
+        ),
+    };
+    let mut seen: std::collections::BTreeMap<&Path, usize> = Default::default();
+    for (p, _) in files {
+        *seen.entry(p.as_path()).or_default() += 1;
+    }
+    if let Some((p, _)) = seen.iter().find(|(_, n)| **n > 1) {
+        let owner = defs
+            .iter()
+            .find(|d| {
+                p.file_stem()
+                    .and_then(|s| s.to_str())
+                    .is_some_and(|s| s == d.name)
+            })
+            .unwrap_or(&defs[0]);
+        return Err(name_err(
+            owner,
+            format!(
+                "the generator would write {} twice: two kernels' outputs share a file name",
+                p.display()
+            ),
+        ));
+    }
+    // a kernel's own files are included inside its module, so its module name
+    // can only collide in the shared files (the registry); its type name
+    // enters every file of its own
+    let mut idents = std::collections::BTreeSet::new();
+    let mut shared_idents = std::collections::BTreeSet::new();
+    let mut stems = std::collections::BTreeSet::new();
+    for (p, src) in neutral {
+        let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        let ids = identifiers(src);
+        if !stem.starts_with(NEUTRAL_PREFIX) {
+            shared_idents.extend(ids.iter().cloned());
+        }
+        idents.extend(ids);
+        stems.insert(stem.to_string());
+    }
+    for d in defs {
+        if stems.contains(&d.name) {
+            return Err(name_err(
+                d,
+                format!(
+                    "`{}` is the name of a file the generator writes ({}.rs): the kernel's module would collide with it",
+                    d.name, d.name
+                ),
+            ));
+        }
+        let ty = crate::emit::type_name(&d.name);
+        for (what, id, used) in [("module", &d.name, &shared_idents), ("type", &ty, &idents)] {
+            if used.contains(id) {
+                return Err(name_err(
+                    d,
+                    format!(
+                        "the kernel's {what} name `{id}` is already used by the generated code (an import, a prelude name, a function or a parameter), which it would shadow"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads a kernel file, with an error of its own for each way that fails:
+/// missing, a folder, no permission, not UTF-8 (with the byte offset and
+/// line), anything else with the system's words.
+pub fn read_kernel_file(f: &Path) -> Result<String, KernelError> {
+    let fail = |message: String, fix: &str| KernelError {
+        file: f.to_path_buf(),
+        field: "(file)".into(),
+        at: None,
+        message,
+        fix: fix.into(),
+    };
+    if f.is_dir() {
+        return Err(fail(
+            "is a folder, not a kernel definition".into(),
+            "rename the folder so that it does not end in .toml, or move it out of the kernels folder",
+        ));
+    }
+    let bytes = std::fs::read(f).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => fail(
+            "does not exist (or is a broken symbolic link)".into(),
+            "check the path; a symbolic link must point to an existing file",
+        ),
+        std::io::ErrorKind::PermissionDenied => fail(
+            format!("cannot be read: permission denied ({e})"),
+            "make the file readable (chmod u+r FILE)",
+        ),
+        _ => fail(
+            format!("cannot be read: {e}"),
+            "check the file and the disk it is on",
+        ),
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let valid = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or("");
+        let (line, col) = line_col(valid, valid.len());
+        KernelError {
+            file: f.to_path_buf(),
+            field: "(file)".into(),
+            at: Some((line, col)),
+            message: format!(
+                "is not UTF-8 text: invalid byte 0x{:02x} at byte offset {at}",
+                e.as_bytes()[at]
+            ),
+            fix: "save the file as UTF-8 (TOML files must be UTF-8)".into(),
+        }
+    })
+}
+
+/// A polynomial with rational coefficients, lowest power first, and whether
+/// it is the piece's polynomial up to a positive constant exactly (all
+/// coefficients share one basis element pi^e sqrt(s) > 0) or only to the
+/// stated binary precision.
+fn rational_shape(p: &Poly) -> (Vec<Rational>, bool) {
+    let bases: Vec<_> = p
+        .coef
+        .iter()
+        .filter(|c| !c.is_zero())
+        .map(|c| c.as_monomial().map(|(b, _)| b))
+        .collect();
+    let common = bases.first().copied().flatten();
+    if common.is_some() && bases.iter().all(|b| *b == common) {
+        let coef = p
+            .coef
+            .iter()
+            .map(|c| c.as_monomial().map(|(_, q)| q.clone()).unwrap_or_default())
+            .collect();
+        (coef, true)
+    } else {
+        let coef = p
+            .coef
+            .iter()
+            .map(|c| c.to_float(SIGN_PREC).to_rational().unwrap_or_default())
+            .collect();
+        (coef, false)
+    }
+}
+
+/// Bits of the coefficients when a piece mixes basis elements.
+const SIGN_PREC: u32 = 256;
+/// Width to which sign changes of W are located: 2^-50 (shown to 1e-12).
+const ROOT_WIDTH_BITS: u32 = 50;
+
+fn trim(mut p: Vec<Rational>) -> Vec<Rational> {
+    while p.last().is_some_and(|c| *c == 0) {
+        p.pop();
+    }
+    p
+}
+
+fn eval_rat(p: &[Rational], x: &Rational) -> Rational {
+    let mut acc = Rational::new();
+    for c in p.iter().rev() {
+        acc *= x;
+        acc += c;
+    }
+    acc
+}
+
+fn rem(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
+    let mut r = a.to_vec();
+    let lb = b.last().expect("nonzero divisor");
+    while r.len() >= b.len() && !r.is_empty() {
+        let shift = r.len() - b.len();
+        let f = Rational::from(r.last().unwrap() / lb);
+        for (i, c) in b.iter().enumerate() {
+            r[shift + i] -= Rational::from(&f * c);
+        }
+        r.pop();
+        r = trim(r);
+    }
+    r
+}
+
+/// p / (q - x) for a root x (synthetic division).
+fn deflate(p: &[Rational], x: &Rational) -> Vec<Rational> {
+    let n = p.len() - 1;
+    let mut out = vec![Rational::new(); n];
+    let mut carry = Rational::new();
+    for k in (0..n).rev() {
+        carry = Rational::from(&carry * x) + &p[k + 1];
+        out[k] = carry.clone();
+    }
+    out
+}
+
+fn sturm(p: &[Rational]) -> Vec<Vec<Rational>> {
+    let d: Vec<Rational> = trim(
+        p.iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, c)| Rational::from(c * k as u32))
+            .collect(),
+    );
+    let mut seq = vec![p.to_vec()];
+    if d.is_empty() {
+        return seq;
+    }
+    seq.push(d);
+    loop {
+        let n = seq.len();
+        let r: Vec<Rational> = rem(&seq[n - 2], &seq[n - 1])
+            .into_iter()
+            .map(|c| -c)
+            .collect();
+        if r.is_empty() {
+            return seq;
+        }
+        seq.push(r);
+    }
+}
+
+fn variations(seq: &[Vec<Rational>], x: &Rational) -> usize {
+    let signs: Vec<std::cmp::Ordering> = seq
+        .iter()
+        .map(|p| eval_rat(p, x).cmp0())
+        .filter(|s| *s != std::cmp::Ordering::Equal)
+        .collect();
+    signs.windows(2).filter(|w| w[0] != w[1]).count()
+}
+
+/// A real root of a piece: exact, or inside (lo, hi) of width < 2^-50.
+#[derive(Clone, Debug)]
+struct Root {
+    lo: Rational,
+    hi: Rational,
+}
+
+impl Root {
+    fn show(&self) -> String {
+        if self.lo == self.hi {
+            self.lo.to_string()
+        } else {
+            let mid = Rational::from(&self.lo + &self.hi) / 2u32;
+            format!("{:.12}", mid.to_f64())
+        }
+    }
+}
+
+/// The distinct real roots of p in the open interval (a, b), isolated by
+/// Sturm sequences and bisection, exact where they are rational and hit.
+fn roots_between(p: &[Rational], a: &Rational, b: &Rational) -> Vec<Root> {
+    let mut p = trim(p.to_vec());
+    let mut exact: Vec<Rational> = Vec::new();
+    // roots at the ends are not inside; divide them out
+    for end in [a, b] {
+        while p.len() > 1 && eval_rat(&p, end) == 0 {
+            p = deflate(&p, end);
+        }
+    }
+    let width = Rational::from((1, rug::Integer::from(1) << ROOT_WIDTH_BITS));
+    'restart: loop {
+        if p.len() <= 1 {
+            break;
+        }
+        let seq = sturm(&p);
+        let mut found = Vec::new();
+        let mut stack = vec![(a.clone(), b.clone())];
+        while let Some((lo, hi)) = stack.pop() {
+            let n = variations(&seq, &lo) - variations(&seq, &hi);
+            if n == 0 {
+                continue;
+            }
+            if n == 1 && Rational::from(&hi - &lo) < width {
+                found.push(Root { lo, hi });
+                continue;
+            }
+            let mid = Rational::from(&lo + &hi) / 2u32;
+            if eval_rat(&p, &mid) == 0 {
+                p = deflate(&p, &mid);
+                while p.len() > 1 && eval_rat(&p, &mid) == 0 {
+                    p = deflate(&p, &mid);
+                }
+                exact.push(mid);
+                continue 'restart;
+            }
+            stack.push((mid.clone(), hi));
+            stack.push((lo, mid));
+        }
+        let mut all: Vec<Root> = found;
+        all.extend(exact.iter().map(|x| Root {
+            lo: x.clone(),
+            hi: x.clone(),
+        }));
+        all.sort_by(|x, y| x.lo.cmp(&y.lo).then(x.hi.cmp(&y.hi)));
+        return all;
+    }
+    let mut all: Vec<Root> = exact
+        .into_iter()
+        .map(|x| Root {
+            lo: x.clone(),
+            hi: x,
+        })
+        .collect();
+    all.sort_by(|x, y| x.lo.cmp(&y.lo));
+    all
+}
+
+/// The stretches of (from, to) where a piece is negative, as (left, right)
+/// descriptions; exact ends are rationals, located ones decimals to 1e-12.
+fn negative_stretches(piece: &Piece) -> (Vec<(String, String)>, bool) {
+    // roots at the piece's ends (W(R) = 0 always) are divided out exactly
+    // first, so that rounded coefficients cannot move one inside
+    let mut poly = piece.poly.clone();
+    for end in [&piece.from, &piece.to] {
+        while poly.degree() > 0 && poly.eval_rational(end).is_zero() {
+            poly = deflate_exact(&poly, end);
+        }
+    }
+    if poly.is_zero() {
+        return (Vec::new(), true);
+    }
+    let (p, exact) = rational_shape(&poly);
+    let roots = roots_between(&trim(p), &piece.from, &piece.to);
+    // the sign between two roots, from W itself (exact where W's value is
+    // rational up to a positive factor, else to 256 bits)
+    let negative_at = |x: &Rational| piece.poly.eval_rational(x).to_float(SIGN_PREC) < 0;
+    let mut out = Vec::new();
+    let mut left = (piece.from.clone(), piece.from.to_string());
+    let ends: Vec<(Rational, Rational, String)> = roots
+        .iter()
+        .map(|r| (r.lo.clone(), r.hi.clone(), r.show()))
+        .chain(std::iter::once((
+            piece.to.clone(),
+            piece.to.clone(),
+            piece.to.to_string(),
+        )))
+        .collect();
+    for (lo, hi, shown) in ends {
+        let sample = Rational::from(&left.0 + &lo) / 2u32;
+        if negative_at(&sample) {
+            out.push((left.1.clone(), shown.clone()));
+        }
+        left = (hi, shown);
+    }
+    (out, exact)
+}
+
+/// p / (q - x) for a root x of p, exactly.
+fn deflate_exact(p: &Poly, x: &Rational) -> Poly {
+    let n = p.coef.len() - 1;
+    let mut out = vec![Exact::zero(); n];
+    let mut carry = Exact::zero();
+    let xe = Exact::rational(x.clone());
+    for k in (0..n).rev() {
+        carry = &(&carry * &xe) + &p.coef[k + 1];
+        out[k] = carry.clone();
+    }
+    Poly { coef: out }
+}
+
+/// Facts about the shape of W that make a kernel questionable but not
+/// unusable, found exactly: where W < 0 on [0, R] (Sturm sequences on each
+/// piece, sign changes located to 1e-12), and whether W'(0) = 0.
+pub fn shape_facts(def: &KernelDef) -> Vec<crate::analysis::Fact> {
+    let mut stretches: Vec<(String, String)> = Vec::new();
+    let mut all_exact = true;
+    for piece in &def.w.pieces {
+        let (s, exact) = negative_stretches(piece);
+        all_exact &= exact;
+        for (l, r) in s {
+            // W is continuous: a stretch that reaches a joint goes on in the next piece
+            match stretches.last_mut() {
+                Some(last) if last.1 == l && l == piece.from.to_string() => last.1 = r,
+                _ => stretches.push((l, r)),
+            }
+        }
+    }
+    let how = if all_exact {
+        "Sturm sequences on each piece, exact; sign changes located to 1e-12"
+    } else {
+        "Sturm sequences on each piece, coefficients to 256 bits; sign changes located to 1e-12"
+    };
+    let negative = crate::analysis::Fact {
+        name: "W >= 0 on [0, R]".into(),
+        holds: stretches.is_empty(),
+        detail: if stretches.is_empty() {
+            format!("W is nowhere negative ({how})")
+        } else {
+            let list: Vec<String> = stretches
+                .iter()
+                .map(|(l, r)| format!("({l}, {r})"))
+                .collect();
+            format!(
+                "W < 0 for q in {} ({how}); a negative weight lowers the density a neighbour there adds",
+                list.join(" and ")
+            )
+        },
+    };
+    let first = &def.dw.pieces[0];
+    let dw0 = first.poly.eval_rational(&Rational::new());
+    let origin = crate::analysis::Fact {
+        name: "gradient vanishes at the origin".into(),
+        holds: dw0.is_zero(),
+        detail: if dw0.is_zero() {
+            "W'(0) = 0 (exact)".into()
+        } else {
+            format!("W'(0) = {dw0} (exact), not 0: W has a cusp at q = 0 and the force between close particles does not vanish as they meet")
+        },
+    };
+    vec![negative, origin]
 }

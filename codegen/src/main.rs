@@ -158,5 +158,19 @@ fn render_all(dir: &std::path::Path) -> Result<Vec<(PathBuf, String)>> {
         .iter()
         .map(|d| analysis::analyse(d, analysis::Options::default()))
         .collect();
-    Ok(emit::render(&analyses))
+    let files = emit::render(&analyses);
+    // the same tree with every kernel renamed to a neutral stand-in: whatever
+    // it names is the generator's own, and no kernel may take it
+    let neutral: Vec<analysis::Analysis> = analyses
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let mut a = a.clone();
+            a.def.name = kernel::neutral_name(i);
+            a
+        })
+        .collect();
+    kernel::check_emitted_names(&defs, &files, &emit::render(&neutral))
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(files)
 }

@@ -318,7 +318,15 @@ struct Parser {
     toks: Vec<(usize, Tok)>,
     pos: usize,
     end_col: usize,
+    /// How deep the recursive descent is: every nesting (parentheses,
+    /// `sqrt(..)`, a sign before a sign) goes one level down.
+    depth: usize,
 }
+
+/// The deepest nesting a formula may have. The parser recurses once per
+/// level; this keeps it far from the stack's end (a kernel piece needs a
+/// handful of levels).
+pub const MAX_NESTING: usize = 100;
 
 /// The largest degree in q a formula may reach.
 pub const MAX_DEGREE: usize = 64;
@@ -336,6 +344,22 @@ impl Parser {
             .map(|(c, _)| *c)
             .unwrap_or(self.end_col)
     }
+    /// Goes one nesting level down, refusing past [`MAX_NESTING`].
+    fn descend(&mut self) -> Result<(), ParseError> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err(ParseError {
+                column: self.col(),
+                message: format!(
+                    "nested more than {MAX_NESTING} levels deep (parentheses, sqrt(..) or signs)"
+                ),
+                fix: "write the formula with less nesting: multiply out, or drop repeated signs"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+
     fn err(&self, message: String) -> ParseError {
         ParseError {
             column: self.col(),
@@ -400,13 +424,13 @@ impl Parser {
 
     fn unary(&mut self) -> Result<Poly, ParseError> {
         match self.peek() {
-            Some(Tok::Op('-')) => {
+            Some(Tok::Op(c @ ('-' | '+'))) => {
+                let neg = *c == '-';
                 self.pos += 1;
-                Ok(self.unary()?.neg())
-            }
-            Some(Tok::Op('+')) => {
-                self.pos += 1;
-                self.unary()
+                self.descend()?;
+                let inner = self.unary()?;
+                self.depth -= 1;
+                Ok(if neg { inner.neg() } else { inner })
             }
             _ => self.power(),
         }
@@ -455,7 +479,9 @@ impl Parser {
                     "pi" => Ok(Poly::constant(Exact::pi_pow(1))),
                     "sqrt" => {
                         self.expect('(')?;
+                        self.descend()?;
                         let inner = self.expr()?;
+                        self.depth -= 1;
                         self.expect(')')?;
                         let r = inner
                             .as_constant()
@@ -483,7 +509,9 @@ impl Parser {
             }
             Some(Tok::Op('(')) => {
                 self.pos += 1;
+                self.descend()?;
                 let e = self.expr()?;
+                self.depth -= 1;
                 self.expect(')')?;
                 Ok(e)
             }
@@ -518,6 +546,7 @@ pub fn parse_poly(src: &str) -> Result<Poly, ParseError> {
         toks,
         pos: 0,
         end_col: src.chars().count() + 1,
+        depth: 0,
     };
     if p.toks.is_empty() {
         return Err(p.err("the formula is empty".into()));

@@ -48,3 +48,69 @@ fn pathological_formulas_are_refused_quickly() {
     let e = parse_poly("sqrt(1000000000000000000000000000001)").unwrap_err();
     assert!(e.message.contains("below 2^40"), "{e}");
 }
+
+/// A formula nested `depth` times with a mix of the parser's recursive paths
+/// (parentheses, sqrt, sign chains, powers).
+fn nested(kinds: &[u8], depth: usize) -> String {
+    let mut open = String::new();
+    let mut close = String::new();
+    for i in 0..depth {
+        match kinds[i % kinds.len()] % 4 {
+            0 => {
+                open.push('(');
+                close.insert(0, ')');
+            }
+            1 => {
+                open.push_str("sqrt(");
+                close.insert(0, ')');
+            }
+            2 => open.push('-'),
+            _ => {
+                open.push('(');
+                close.insert_str(0, ")^1");
+            }
+        }
+    }
+    format!("{open}4{close}")
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Deep inputs never overflow the stack: up to 20,000 levels of any mix
+    /// of the recursive paths give a value or the nesting error.
+    #[test]
+    fn deep_formulas_never_overflow(
+        kinds in proptest::collection::vec(0u8..4, 1..6),
+        depth in 0usize..20_000,
+    ) {
+        let src = nested(&kinds, depth);
+        match parse_poly(&src) {
+            Ok(_) => prop_assert!(depth <= shearsph_codegen::poly::MAX_NESTING),
+            Err(e) => prop_assert!(
+                e.message.contains("nested more than") || e.message.contains("sqrt of"),
+                "{}", e.message
+            ),
+        }
+    }
+}
+
+#[test]
+fn deep_toml_never_overflows() {
+    for depth in [100, 1_000, 10_000] {
+        let arrays = format!("x = {}{}\n", "[".repeat(depth), "]".repeat(depth));
+        let tables = format!("x = {}{}\n", "{ a = ".repeat(depth), "1 }".repeat(depth));
+        for src in [arrays, tables] {
+            let src = format!("name = \"k\"\nreference = \"r\"\nsupport = 2\n{src}");
+            let e = parse_kernel(Path::new("k.toml"), &src).unwrap_err();
+            assert!(!e.message.is_empty(), "depth {depth}");
+        }
+    }
+    for depth in [1_000, 10_000] {
+        let expr = format!("{}q{}", "(".repeat(depth), ")".repeat(depth));
+        let e = parse_poly(&expr).unwrap_err();
+        assert!(e.message.contains("nested more than 100 levels"), "{e}");
+        let e = parse_poly(&"-".repeat(depth)).unwrap_err();
+        assert!(e.message.contains("nested more than 100 levels"), "{e}");
+    }
+}

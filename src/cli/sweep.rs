@@ -108,8 +108,9 @@ pub struct RunSweepArgs {
     /// Start over in an existing folder (its rows are dropped).
     #[arg(long)]
     pub force: bool,
-    /// Run only grid points k, k + n, k + 2n, ... (0 <= k < n).
-    #[arg(long, value_name = "K/N")]
+    /// Run only grid points k, k + n, k + 2n, ... (0 <= k < n); `auto` takes
+    /// k and n from a Slurm job array (SLURM_ARRAY_TASK_ID - _MIN, _COUNT).
+    #[arg(long, value_name = "K/N|auto")]
     pub shard: Option<Shard>,
     /// Scenes at once (default: cores / threads-per-scene).
     #[arg(long)]
