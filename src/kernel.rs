@@ -175,10 +175,14 @@ impl KernelInfo {
     /// matched to a relative 1e-12: `1.3` finds `13/10`). When it is
     /// missing, add a line to `kernels/discretisations.toml` and run
     /// `cargo run -p shearsph-codegen -- generate`.
-    pub fn discretisation(&self, lattice: Lattice, h_over_d: f64) -> Option<&'static DiscretisationInfo> {
-        self.discretisations
-            .iter()
-            .find(|d| d.lattice == lattice && (d.h_over_d - h_over_d).abs() <= 1e-12 * h_over_d.abs())
+    pub fn discretisation(
+        &self,
+        lattice: Lattice,
+        h_over_d: f64,
+    ) -> Option<&'static DiscretisationInfo> {
+        self.discretisations.iter().find(|d| {
+            d.lattice == lattice && (d.h_over_d - h_over_d).abs() <= 1e-12 * h_over_d.abs()
+        })
     }
     pub fn c0_model(&self, name: &str) -> Option<&'static C0Model> {
         self.c0_models.iter().find(|m| m.name == name)

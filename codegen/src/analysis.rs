@@ -96,7 +96,10 @@ impl DiscAnalysis {
     /// The models derived exactly (every model, when the maximum is at a
     /// symmetric configuration and none is degenerate).
     pub fn exact_models(&self) -> Vec<&c0::Derivation> {
-        self.models.iter().filter_map(|m| m.exact.as_ref()).collect()
+        self.models
+            .iter()
+            .filter_map(|m| m.exact.as_ref())
+            .collect()
     }
 }
 
@@ -159,7 +162,12 @@ fn compare(what: &str, printed: &str, ours: &Float, digits: usize) -> Compared {
 }
 
 /// The curve's amplitude (max - min) and mean for a site, at `prec` bits.
-fn amplitude(fr: &FloatRadial, def: &KernelDef, disc: &Discretisation, site: Site) -> (f64, f64, f64) {
+fn amplitude(
+    fr: &FloatRadial,
+    def: &KernelDef,
+    disc: &Discretisation,
+    site: Site,
+) -> (f64, f64, f64) {
     let curve = EpsCurve::new(fr, &def.support, disc, site);
     let (mx, mn) = compaction::extremes(&curve);
     (
@@ -187,7 +195,10 @@ pub fn analyse(def: &KernelDef, discs: &[Discretisation], opts: Options) -> Anal
             .collect();
         handles
             .into_iter()
-            .map(|h| h.join().expect("a discretisation's derivation does not panic"))
+            .map(|h| {
+                h.join()
+                    .expect("a discretisation's derivation does not panic")
+            })
             .collect()
     });
     let mut facts = kernel_facts(def, prec);
@@ -319,10 +330,23 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
     let half_known = Known::exact(eps_half.clone(), prec, "exact lattice sum");
     let at_max = recognise_any(&mx, &t0_known, &half_known, prec);
     let at_min = recognise_any(&mn, &t0_known, &half_known, prec);
-    let (max, t_max) = at_max.clone().map(|(_, v, t)| (v, t)).unwrap_or_else(|| searched(&mx, prec));
-    let (min, t_min) = at_min.map(|(_, v, t)| (v, t)).unwrap_or_else(|| searched(&mn, prec));
+    let (max, t_max) = at_max
+        .clone()
+        .map(|(_, v, t)| (v, t))
+        .unwrap_or_else(|| searched(&mx, prec));
+    let (min, t_min) = at_min
+        .map(|(_, v, t)| (v, t))
+        .unwrap_or_else(|| searched(&mn, prec));
     let mean = compaction::mean(&def.w, r, disc, Site::CENTRE, prec);
-    let eps = EpsSummary { t0: t0_known, half_period: half_known, max, t_max, min, t_min, mean };
+    let eps = EpsSummary {
+        t0: t0_known,
+        half_period: half_known,
+        max,
+        t_max,
+        min,
+        t_min,
+        mean,
+    };
     let claims = claims(def, disc, &eps, opts.check_layers);
 
     // c0 from the configuration where the search found the maximum
@@ -345,7 +369,11 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
             (config, models)
         }
         None => {
-            let nbs: Vec<_> = curve.neighbours(&mx.tau).into_iter().filter(|n| !n.2.is_zero()).collect();
+            let nbs: Vec<_> = curve
+                .neighbours(&mx.tau)
+                .into_iter()
+                .filter(|n| !n.2.is_zero())
+                .collect();
             let frdw = FloatRadial::new(&def.dw, prec);
             let s1 = FloatSums::at(&frdw, &nbs, disc, prec);
             let models = c0::derive_all(Err(&mx.value), &sums_t0, Err(&s1), disc, nbs.len(), prec);
@@ -388,7 +416,12 @@ fn recognise_any(
     let tau_tol = Float::with_val(prec, Float::i_exp(1, -((prec / 3) as i32)));
     let val_tol = Float::with_val(prec, Float::i_exp(1, -((prec * 2 / 3) as i32)));
     let candidates = [
-        (Config::Half, Rational::from((1, 2)), half, Rational::from((1, 2))),
+        (
+            Config::Half,
+            Rational::from((1, 2)),
+            half,
+            Rational::from((1, 2)),
+        ),
         (Config::T0, Rational::new(), t0, Rational::new()),
         (Config::T0, Rational::from(1), t0, Rational::new()),
     ];
@@ -432,7 +465,12 @@ fn claims(def: &KernelDef, disc: &Discretisation, eps: &EpsSummary, nl: i64) -> 
     let r = &def.support;
     let kmax = max_layer_offset(disc, r);
     // layers in reach of the support, in whole d (ceil(R) for h = d)
-    let rr = disc.support_d(r).ceil().numer().to_i64().unwrap_or(i64::MAX);
+    let rr = disc
+        .support_d(r)
+        .ceil()
+        .numer()
+        .to_i64()
+        .unwrap_or(i64::MAX);
     let check_prec = 128;
     let frc = FloatRadial::new(&def.w, check_prec);
     let mut claims = Vec::new();
@@ -440,9 +478,15 @@ fn claims(def: &KernelDef, disc: &Discretisation, eps: &EpsSummary, nl: i64) -> 
     claims.push(Fact {
         name: "maximum of eps at exactly 0.5 T (n = 0)".into(),
         holds: eps.t_max.exact.as_ref() == Some(&half),
-        detail: format!("search finds the maximum at t = {} T", decimal(&eps.t_max.value, 20)),
+        detail: format!(
+            "search finds the maximum at t = {} T",
+            decimal(&eps.t_max.value, 20)
+        ),
     });
-    let site = |n| Site { n, n_layers: Some(nl) };
+    let site = |n| Site {
+        n,
+        n_layers: Some(nl),
+    };
     let (amp0, _, _) = amplitude(&frc, def, disc, Site::CENTRE);
     let mut amp_bad = Vec::new();
     let mut amps = Vec::new();
@@ -473,12 +517,16 @@ fn claims(def: &KernelDef, disc: &Discretisation, eps: &EpsSummary, nl: i64) -> 
     claims.push(Fact {
         name: format!("amplitude drops near the wall (n = N - 1 = {}) when R > 1", nl - 1),
         holds: if kmax > 1 { drops } else { !drops },
-        detail: format!(
-            "amplitude at n = N - 1: {:.6e}, at n = 0: {:.6e} (ratio {:.4})",
-            amp_wall,
-            amp0,
-            amp_wall / amp0
-        ),
+        detail: if amp0 == 0.0 {
+            format!("amplitude at n = N - 1: {amp_wall:.6e}, at n = 0: 0 (eps does not vary at n = 0: no neighbour moves within reach)")
+        } else {
+            format!(
+                "amplitude at n = N - 1: {:.6e}, at n = 0: {:.6e} (ratio {:.4})",
+                amp_wall,
+                amp0,
+                amp_wall / amp0
+            )
+        },
     });
     claims
 }
@@ -486,14 +534,19 @@ fn claims(def: &KernelDef, disc: &Discretisation, eps: &EpsSummary, nl: i64) -> 
 /// The paper's claim that the mean of eps is the same for every inner layer.
 fn mean_claim(def: &KernelDef, disc: &Discretisation, nl: i64, rr: i64, prec: u32) -> Fact {
     let r = &def.support;
-    let site = |n| Site { n, n_layers: Some(nl) };
+    let site = |n| Site {
+        n,
+        n_layers: Some(nl),
+    };
     let mut mean_bad = Vec::new();
     let mut means = Vec::new();
     let mean1 = compaction::mean(&def.w, r, disc, site(nl - rr), prec);
     for n in 1..=(nl - rr) {
         let m = compaction::mean(&def.w, r, disc, site(n), prec);
         means.push(format!("n={n}: {}", decimal(&m.value, 8)));
-        let d = Float::with_val(prec, &m.value - &mean1.value).abs().to_f64();
+        let d = Float::with_val(prec, &m.value - &mean1.value)
+            .abs()
+            .to_f64();
         if d > 1e-20 {
             mean_bad.push(n);
         }
@@ -521,7 +574,12 @@ fn mean_claim(def: &KernelDef, disc: &Discretisation, nl: i64, rr: i64, prec: u3
 }
 
 /// The paper's Tables 1 and 2 beside ours (paper's discretisation only).
-fn paper_tables(def: &KernelDef, paper: &DiscAnalysis, digits: usize, prec: u32) -> (Vec<Compared>, Vec<Compared>) {
+fn paper_tables(
+    def: &KernelDef,
+    paper: &DiscAnalysis,
+    digits: usize,
+    prec: u32,
+) -> (Vec<Compared>, Vec<Compared>) {
     let mut table1 = Vec::new();
     let mut table2 = Vec::new();
     let Some(p) = &def.paper else {
@@ -529,10 +587,20 @@ fn paper_tables(def: &KernelDef, paper: &DiscAnalysis, digits: usize, prec: u32)
     };
     let e = &paper.eps;
     table1.push(compare("eps(0T)", &p.table1.t0, &e.t0.value, digits));
-    table1.push(compare("eps(0.5T)", &p.table1.half_period, &e.half_period.value, digits));
+    table1.push(compare(
+        "eps(0.5T)",
+        &p.table1.half_period,
+        &e.half_period.value,
+        digits,
+    ));
     table1.push(compare("mean eps", &p.table1.mean, &e.mean.value, digits));
     if let Some(t2) = &p.table2 {
-        table2.push(compare("eps0", &t2.eps0, &paper.c0_config.eps0.value, digits));
+        table2.push(compare(
+            "eps0",
+            &t2.eps0,
+            &paper.c0_config.eps0.value,
+            digits,
+        ));
         let f = parse_decimal(&t2.factor).expect("printed factor is a number");
         let f = Float::with_val(prec, &f);
         let f2 = Float::with_val(prec, f.square_ref());

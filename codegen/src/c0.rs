@@ -233,7 +233,7 @@ pub struct ModelC0 {
 }
 
 /// Why a = eps0 K vanishes, as a fact for the reader.
-fn degenerate(model: Model, eps0_zero: bool, s1: &FloatSums, n_neighbours: usize) -> String {
+fn degenerate(model: Model, eps0_zero: bool, n_neighbours: usize) -> String {
     let carrier = match model.carrier {
         Carrier::Field => "G(max)",
         Carrier::Pair => "2 W'(1) (the own layer's nearest pair)",
@@ -242,10 +242,10 @@ fn degenerate(model: Model, eps0_zero: bool, s1: &FloatSums, n_neighbours: usize
         "no c0: eps0 = 0, the lattice does not compact at its maximum".into()
     } else if n_neighbours == 0 {
         "no c0: the support reaches no neighbour at maximum compaction (only the particle itself), so nothing carries the compaction pressure".into()
-    } else if s1.g.is_zero() && s1.v.is_zero() {
-        format!("no c0: the gradient W' vanishes at every neighbour in reach (e.g. W'(R) = 0 at r = R), the neighbours exert no force, so {carrier} = 0 and a = eps0 K = 0")
     } else {
-        format!("no c0: the compaction carrier {carrier} = 0 at maximum compaction, so a = eps0 K = 0")
+        // K sums x^2 W'/r over the carriers: it vanishes when W' does at
+        // every one of them (no cancellation: W' keeps its sign there)
+        format!("no c0: the gradient W' vanishes at every neighbour that carries the compaction at maximum compaction (for R = 1 on the paper's lattice: W'(1) = 0, the six neighbours exert no force), so {carrier} = 0 and a = eps0 K = 0")
     }
 }
 
@@ -269,12 +269,22 @@ impl FloatSums {
     }
 
     /// The sums over neighbours (x, k, r^2) in d, at `prec` bits.
-    pub fn at(dw: &FloatRadial, nbs: &[(Float, i64, Float)], disc: &Discretisation, prec: u32) -> Self {
+    pub fn at(
+        dw: &FloatRadial,
+        nbs: &[(Float, i64, Float)],
+        disc: &Discretisation,
+        prec: u32,
+    ) -> Self {
         let h = Float::with_val(prec, &disc.h);
         let h2 = Float::with_val(prec, h.square_ref());
         let h3 = Float::with_val(prec, &h2 * &h);
         let zero = || Float::with_val(prec, 0);
-        let mut s = FloatSums { g: zero(), v: zero(), av: zero(), pair: zero() };
+        let mut s = FloatSums {
+            g: zero(),
+            v: zero(),
+            av: zero(),
+            pair: zero(),
+        };
         for (x, k, r2) in nbs {
             if r2.is_zero() {
                 continue;
@@ -316,7 +326,13 @@ impl Coefs {
 
 /// The balance at high precision (the same formulas as [`derive`]); `None`
 /// when a = 0.
-pub fn derive_float(model: Model, eps0: &Float, s0: &FloatSums, s1: &FloatSums, vf: &Float) -> Option<Coefs> {
+pub fn derive_float(
+    model: Model,
+    eps0: &Float,
+    s0: &FloatSums,
+    s1: &FloatSums,
+    vf: &Float,
+) -> Option<Coefs> {
     let prec = eps0.prec();
     let one_eps = Float::with_val(prec, eps0 + 1u32);
     let k = match model.carrier {
@@ -327,7 +343,11 @@ pub fn derive_float(model: Model, eps0: &Float, s0: &FloatSums, s1: &FloatSums, 
     if a.is_zero() {
         return None;
     }
-    let av_max = if model.av_at_max { s1.av.clone() } else { Float::with_val(prec, 0) };
+    let av_max = if model.av_at_max {
+        s1.av.clone()
+    } else {
+        Float::with_val(prec, 0)
+    };
     let b = Float::with_val(prec, &s0.av - &av_max) * &one_eps;
     let c = Float::with_val(prec, &s1.g - Float::with_val(prec, vf * &s1.v))
         + Float::with_val(prec, Float::with_val(prec, vf * &s0.v) - &s0.g) * &one_eps;
@@ -365,10 +385,20 @@ pub fn derive_all(
             };
             let coefs = match &exact {
                 Some(d) => Ok(Coefs::from_exact(d, prec)),
-                None => derive_float(model, &eps0_f, &FloatSums::from_exact(s0, prec), &fs1, &vf.to_float(prec))
-                    .ok_or_else(|| degenerate(model, eps0_f.is_zero(), &fs1, n_neighbours)),
+                None => derive_float(
+                    model,
+                    &eps0_f,
+                    &FloatSums::from_exact(s0, prec),
+                    &fs1,
+                    &vf.to_float(prec),
+                )
+                .ok_or_else(|| degenerate(model, eps0_f.is_zero(), n_neighbours)),
             };
-            ModelC0 { model, exact, coefs }
+            ModelC0 {
+                model,
+                exact,
+                coefs,
+            }
         })
         .collect()
 }

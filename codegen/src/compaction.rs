@@ -151,7 +151,8 @@ impl<'a> EpsCurve<'a> {
         let r2max = Float::with_val(prec, &self.w.support2 / self.inv_h2.clone());
         for k in -self.kmax..=self.kmax {
             let speed = layer_speed(self.site.n, k, self.site.n_layers);
-            let mut ph = Float::with_val(prec, tau * speed) + &self.phase0[(k + self.kmax) as usize];
+            let mut ph =
+                Float::with_val(prec, tau * speed) + &self.phase0[(k + self.kmax) as usize];
             let fl = Float::with_val(prec, ph.floor_ref());
             ph -= fl;
             let y2 = Float::with_val(prec, Rational::from(&self.dy2 * (k * k)));

@@ -42,19 +42,26 @@ struct Entry {
 fn line_col(src: &str, byte: usize) -> (usize, usize) {
     let before = &src[..byte.min(src.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before.rsplit('\n').next().map(|s| s.chars().count()).unwrap_or(0) + 1;
+    let col = before
+        .rsplit('\n')
+        .next()
+        .map(|s| s.chars().count())
+        .unwrap_or(0)
+        + 1;
     (line, col)
 }
 
 /// Reads and validates the file's text; the paper's discretisation comes
 /// first, then the file's in order, duplicates removed.
 pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError> {
-    let err = |field: String, span: Option<std::ops::Range<usize>>, message: String, fix: &str| KernelError {
-        file: file.to_path_buf(),
-        field,
-        at: span.map(|s| line_col(src, s.start)),
-        message,
-        fix: fix.to_string(),
+    let err = |field: String, span: Option<std::ops::Range<usize>>, message: String, fix: &str| {
+        KernelError {
+            file: file.to_path_buf(),
+            field,
+            at: span.map(|s| line_col(src, s.start)),
+            message,
+            fix: fix.to_string(),
+        }
     };
     let raw: DiscFile = toml::from_str(src).map_err(|e| {
         err(
@@ -90,7 +97,12 @@ pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError>
             )
         })?;
         if h <= 0 || h > MAX_H_OVER_D {
-            return Err(err(field, Some(e.h_over_d.span()), format!("h/d = {h} is out of range (0, {MAX_H_OVER_D}]"), fix));
+            return Err(err(
+                field,
+                Some(e.h_over_d.span()),
+                format!("h/d = {h} is out of range (0, {MAX_H_OVER_D}]"),
+                fix,
+            ));
         }
         let d = Discretisation { lattice, h };
         if !out.contains(&d) {
@@ -140,7 +152,10 @@ mod tests {
         assert_eq!(e.at, Some((2, 11)));
         assert!(e.fix.contains("square"));
         for bad in ["0", "\"-1\"", "\"x\"", "1.5", "5"] {
-            let e = p(&format!("[[discretisation]]\nlattice = \"square\"\nh_over_d = {bad}\n")).unwrap_err();
+            let e = p(&format!(
+                "[[discretisation]]\nlattice = \"square\"\nh_over_d = {bad}\n"
+            ))
+            .unwrap_err();
             assert_eq!(e.field, "discretisation[0].h_over_d", "{bad}");
             assert!(e.to_string().contains("discretisations.toml"));
         }

@@ -127,8 +127,7 @@ fn run(cli: Cli) -> Result<()> {
                     r_ceil + 1
                 );
             }
-            let discs =
-                discretisation::load(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let discs = discretisation::load(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
             let start = Instant::now();
             let a = analysis::analyse(
                 def,

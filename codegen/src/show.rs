@@ -265,8 +265,20 @@ fn model_text(out: &mut String, a: &Analysis, m: &ModelC0) {
             }
         }
         (None, Ok(c)) => {
-            for (n, v) in [("a", &c.a), ("b", &c.b), ("c", &c.c), ("S", &c.s), ("P", &c.p), ("Q", &c.q)] {
-                let _ = writeln!(out, "    {n} = {}  (high precision, {} bits)", dec_float(a, v), a.prec);
+            for (n, v) in [
+                ("a", &c.a),
+                ("b", &c.b),
+                ("c", &c.c),
+                ("S", &c.s),
+                ("P", &c.p),
+                ("Q", &c.q),
+            ] {
+                let _ = writeln!(
+                    out,
+                    "    {n} = {}  (high precision, {} bits)",
+                    dec_float(a, v),
+                    a.prec
+                );
             }
         }
     }

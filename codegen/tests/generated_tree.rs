@@ -3,8 +3,8 @@
 //! nothing.
 
 use shearsph_codegen::analysis::{analyse, Options};
-use shearsph_codegen::{discretisation, emit};
 use shearsph_codegen::kernel::load_dir;
+use shearsph_codegen::{discretisation, emit};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

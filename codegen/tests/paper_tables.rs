@@ -55,7 +55,11 @@ fn table1_monaghan() {
     assert!(a.table1.iter().all(|c| c.matches));
     // the mean is a quadrature (odd powers of q): its digits are stated
     assert!(a.paper().eps.mean.exact.is_none());
-    assert!(a.paper().eps.mean.digits.unwrap() >= 30, "{:?}", a.paper().eps.mean.digits);
+    assert!(
+        a.paper().eps.mean.digits.unwrap() >= 30,
+        "{:?}",
+        a.paper().eps.mean.digits
+    );
 }
 
 #[test]

@@ -13,7 +13,10 @@ fn table(name: &str) -> String {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../kernels");
     let defs = load_dir(&dir).unwrap();
     let def = defs.iter().find(|k| k.name == name).unwrap();
-    let a = analyse(def, &[], Options {
+    let a = analyse(
+        def,
+        &[],
+        Options {
             digits: 30,
             check_layers: 10,
         },

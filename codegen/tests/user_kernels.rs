@@ -34,7 +34,10 @@ fn unshipped_kernel_end_to_end() {
     // exact values where the mathematics is exact (even kernel: the mean too)
     assert!(a.paper().eps.t0.exact.is_some());
     assert!(a.paper().eps.half_period.exact.is_some());
-    assert!(a.paper().eps.mean.exact.is_some(), "even pieces integrate exactly");
+    assert!(
+        a.paper().eps.mean.exact.is_some(),
+        "even pieces integrate exactly"
+    );
     assert!(
         a.facts
             .iter()

@@ -487,4 +487,3 @@ pub(super) fn piecewise(r: &Radial, what: Which) -> (TokenStream, u32) {
         max_flops + n as u32, // comparisons
     )
 }
-

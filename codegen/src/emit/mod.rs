@@ -136,7 +136,11 @@ fn eps_lattice_tokens(a: &Analysis, da: &DiscAnalysis) -> TokenStream {
 }
 
 /// One discretisation's `DiscretisationInfo` and its `eps_at` function.
-fn disc_tokens(a: &Analysis, da: &DiscAnalysis, ty: &proc_macro2::Ident) -> (TokenStream, TokenStream) {
+fn disc_tokens(
+    a: &Analysis,
+    da: &DiscAnalysis,
+    ty: &proc_macro2::Ident,
+) -> (TokenStream, TokenStream) {
     let disc = &da.disc;
     let lattice = match disc.lattice {
         LatticeKind::Triangular => quote!(Lattice::Triangular),
@@ -146,19 +150,35 @@ fn disc_tokens(a: &Analysis, da: &DiscAnalysis, ty: &proc_macro2::Ident) -> (Tok
     let h_exact = disc.h.to_string();
     let dy = lit(Exact::sqrt_rational(&disc.lattice.dy2()).to_f64());
     let e = &da.eps;
-    let [t0, half, max, t_max, min, t_min, mean] =
-        [&e.t0, &e.half_period, &e.max, &e.t_max, &e.min, &e.t_min, &e.mean].map(derived);
+    let [t0, half, max, t_max, min, t_min, mean] = [
+        &e.t0,
+        &e.half_period,
+        &e.max,
+        &e.t_max,
+        &e.min,
+        &e.t_min,
+        &e.mean,
+    ]
+    .map(derived);
     let cc = &da.c0_config;
     let (ct, ce) = (derived(&cc.tau), derived(&cc.eps0));
     let symmetric = cc.symmetric.is_some();
     let label = &cc.label;
     let (models, none) = c0_tokens(da, a.digits);
     let st0 = stencil_tokens(&da.terms_t0.iter().map(|t| t.nb.clone()).collect::<Vec<_>>());
-    let sth = stencil_tokens(&da.terms_half.iter().map(|t| t.nb.clone()).collect::<Vec<_>>());
+    let sth = stencil_tokens(
+        &da.terms_half
+            .iter()
+            .map(|t| t.nb.clone())
+            .collect::<Vec<_>>(),
+    );
     let lat = eps_lattice_tokens(a, da);
     let lat_name = format_ident!("EPS_{}", disc.ident().to_uppercase());
     let fn_name = format_ident!("eps_at_{}", disc.ident());
-    let fn_doc = doc(&format!(" eps(t, n) on the {} discretisation; see `shearsph::kernel::eps_at`.", disc.label()));
+    let fn_doc = doc(&format!(
+        " eps(t, n) on the {} discretisation; see `shearsph::kernel::eps_at`.",
+        disc.label()
+    ));
     let item = quote! {
         const #lat_name: EpsLattice = #lat;
         #fn_doc
@@ -204,10 +224,17 @@ fn kernel_impl(a: &Analysis, ty: &proc_macro2::Ident) -> (TokenStream, u32) {
             .map(|p| format!(" - ({}, {}]: {}\n", p.from, p.to, p.poly))
             .collect::<String>()
     };
-    let doc_w = doc(&format!(" W(q), q^2 = `q2`, units h^-2. Pieces (exact):\n{}", pieces(&d.w)));
+    let doc_w = doc(&format!(
+        " W(q), q^2 = `q2`, units h^-2. Pieces (exact):\n{}",
+        pieces(&d.w)
+    ));
     let doc_dw = doc(&format!(
         " dW/dq ({}), units h^-3. Pieces (exact):\n{}",
-        if d.dw_given { "given separately" } else { "derivative of W" },
+        if d.dw_given {
+            "given separately"
+        } else {
+            "derivative of W"
+        },
         pieces(&d.dw)
     ));
     let tokens = quote! {
@@ -275,11 +302,22 @@ pub fn kernel_module(a: &Analysis) -> String {
     let n_discs = a.discs.len();
     let paper_eps_at = format_ident!("eps_at_{}", a.paper().disc.ident());
     let mut uses = vec![
-        quote!(eps_at), quote!(C0Configuration), quote!(C0Model), quote!(Derived),
-        quote!(DiscretisationInfo), quote!(EpsInfo), quote!(EpsLattice), quote!(EpsRow),
-        quote!(Kernel), quote!(KernelInfo), quote!(Lattice),
+        quote!(eps_at),
+        quote!(C0Configuration),
+        quote!(C0Model),
+        quote!(Derived),
+        quote!(DiscretisationInfo),
+        quote!(EpsInfo),
+        quote!(EpsLattice),
+        quote!(EpsRow),
+        quote!(Kernel),
+        quote!(KernelInfo),
+        quote!(Lattice),
     ];
-    if a.discs.iter().any(|da| da.models.iter().any(|m| m.coefs.is_err())) {
+    if a.discs
+        .iter()
+        .any(|da| da.models.iter().any(|m| m.coefs.is_err()))
+    {
         uses.push(quote!(NoC0));
     }
     if d.paper.as_ref().is_some_and(|p| p.table2.is_some()) {
@@ -398,4 +436,3 @@ pub fn render(analyses: &[Analysis]) -> Vec<(PathBuf, String)> {
     out.push((PathBuf::from("registry.rs"), registry(analyses)));
     out
 }
-
