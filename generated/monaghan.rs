@@ -386,7 +386,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -768,7 +768,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0 (exact, where the search found the maximum)",
+            label: "t = 0 (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -1180,7 +1180,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0 (exact, where the search found the maximum)",
+            label: "t = 0 (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -1522,7 +1522,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {

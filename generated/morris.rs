@@ -507,7 +507,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -1059,7 +1059,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0 (exact, where the search found the maximum)",
+            label: "t = 0 (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -1791,7 +1791,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0 (exact, where the search found the maximum)",
+            label: "t = 0 (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -2283,7 +2283,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -2935,7 +2935,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0 (exact, where the search found the maximum)",
+            label: "t = 0 (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {

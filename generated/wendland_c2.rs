@@ -328,7 +328,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -710,7 +710,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {
@@ -1122,7 +1122,7 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: true,
             },
             symmetric: true,
-            label: "t = 0.5 T (exact, where the search found the maximum)",
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
         c0_models: &[
             C0Model {

@@ -364,7 +364,10 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
                 tau: eps.t_max.clone(),
                 eps0: eps.max.clone(),
                 neighbours,
-                label: format!("{} (exact, where the search found the maximum)", c.label()),
+                label: format!(
+                    "{} (exact: the maximum the search found is attained there)",
+                    c.label()
+                ),
             };
             (config, models)
         }
@@ -406,7 +409,10 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
 
 /// The search's extreme recognised as one of the exact symmetric
 /// configurations when it lands there (to a third of the working precision
-/// in tau, two thirds in eps): t = 0 (or T), or t = 0.5 T.
+/// in tau, two thirds in eps): t = 0 (or T), or t = 0.5 T; or, when the
+/// curve is flat at its extreme (the search stops anywhere on a plateau),
+/// when a symmetric configuration attains the extreme value (to two thirds
+/// of the working precision): it is then an extreme too, and exact.
 fn recognise_any(
     e: &Extreme,
     t0: &Known,
@@ -425,10 +431,17 @@ fn recognise_any(
         (Config::T0, Rational::new(), t0, Rational::new()),
         (Config::T0, Rational::from(1), t0, Rational::new()),
     ];
-    candidates.into_iter().find_map(|(c, at, exact, report)| {
-        let tau_err = Float::with_val(prec, &e.tau - &at).abs();
+    let lands = |at: &Rational, exact: &Known| {
+        let tau_err = Float::with_val(prec, &e.tau - at).abs();
         let val_err = Float::with_val(prec, &e.value - &exact.value).abs();
-        (tau_err < tau_tol && val_err < val_tol).then(|| {
+        (tau_err < tau_tol, val_err < val_tol)
+    };
+    let landed = candidates
+        .iter()
+        .any(|(_, at, exact, _)| lands(at, exact) == (true, true));
+    candidates.into_iter().find_map(|(c, at, exact, report)| {
+        let (near, equal) = lands(&at, exact);
+        (equal && (near || !landed)).then(|| {
             (
                 c,
                 Known {

@@ -475,7 +475,7 @@ pub fn mean(w: &Radial, support: &Rational, disc: &Discretisation, site: Site, p
             }
         } else {
             // a moving row averages to its line integral: in h units, times h/d
-            let y2 = Rational::from(disc.lattice.dy2() * (k * k)) / &h2;
+            let y2 = disc.lattice.dy2() * (k * k) / &h2;
             let (v, e, er) = line_integral(w, &y2, prec);
             let (v, e, er) = (
                 Float::with_val(prec, v * &disc.h),
