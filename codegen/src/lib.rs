@@ -14,6 +14,7 @@ pub use rug;
 
 pub mod analysis;
 pub mod c0;
+pub mod claims;
 pub mod compaction;
 pub mod discretisation;
 pub mod emit;

@@ -110,7 +110,7 @@ pub fn text(a: &Analysis) -> String {
     let _ = writeln!(out, "  reference: {}", d.reference);
     let _ = writeln!(
         out,
-        "  support:   R = {} h (h = d throughout the analysis)",
+        "  support:   R = {} h (h/d and the lattice: per discretisation, below)",
         d.support
     );
     let _ = writeln!(
