@@ -2,7 +2,8 @@
 // Source: kernels/composite.toml
 
 use crate::kernel::{
-    C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, PrintedEps, StencilPoint,
+    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
+    EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps, StencilPoint,
 };
 /// Composite kernel (R = 1).
 ///
@@ -70,222 +71,1460 @@ impl Kernel for Composite {
         Self::w_dw_over_q(q2)
     }
 }
-/// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
-/// row's particles at x = a + phase, a integer.
-fn row(phase: f64, y2: f64) -> f64 {
-    let phase = phase - phase.floor();
-    let mut sum = 0.0;
-    for a in -2i32..=2i32 {
-        let x = a as f64 + phase;
-        sum += <Composite as Kernel>::w(x * x + y2);
-    }
-    sum
+const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+    ],
+    reach: 2i32,
+    inv_h2: 1.0,
+    area: 0.8660254037844386,
+};
+/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Composite>(&EPS_TRIANGULAR_1, t, n, walls)
 }
-/// eps(t, n) = rho/rho0 - 1 for a particle of layer n under the ideal
-/// shear (7), t as a fraction of T = d N^2 / U (h = d); `walls = Some(N)`
-/// for fixed walls at |j| >= N, `None` for an interior particle.
-pub fn eps_at(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    let n = n as f64;
-    let walls = walls.map(|nl| nl as f64);
-    let mut sum = 0.0;
-    let j = n + -1.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.5 + speed * t, 0.75);
-    sum += row(0.0, 0.0);
-    let j = n + 1.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.5 + speed * t, 0.75);
-    0.8660254037844386 * sum - 1.0
+const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+    ],
+    reach: 3i32,
+    inv_h2: 0.5917159763313609,
+    area: 0.5124410673280702,
+};
+/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Composite>(&EPS_TRIANGULAR_13_10, t, n, walls)
 }
-/// Everything the derivation found; see `shearsph-codegen show`.
+const EPS_SQUARE_1: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+    ],
+    reach: 2i32,
+    inv_h2: 1.0,
+    area: 1.0,
+};
+/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Composite>(&EPS_SQUARE_1, t, n, walls)
+}
+const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+    ],
+    reach: 3i32,
+    inv_h2: 0.5917159763313609,
+    area: 0.591715976331361,
+};
+/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Composite>(&EPS_SQUARE_13_10, t, n, walls)
+}
+const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+    ],
+    reach: 3i32,
+    inv_h2: 0.3460207612456747,
+    area: 0.3460207612456747,
+};
+/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Composite>(&EPS_SQUARE_17_10, t, n, walls)
+}
+/// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
+pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
+    DiscretisationInfo {
+        lattice: Lattice::Triangular,
+        h_over_d: 1.0,
+        h_over_d_exact: "1",
+        dy: 0.8660254037844386,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.0007399187102630999,
+                exact: "-1 + 15*sqrt(3)/26",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.0595675646420607,
+                exact: "-1 + 45*sqrt(3)/104 + 9*sqrt(3)/(16*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.0595675646420607,
+                exact: "-1 + 45*sqrt(3)/104 + 9*sqrt(3)/(16*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.0007399187102630999,
+                exact: "-1 + 15*sqrt(3)/26",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: 0.02978343680948056,
+                exact: "-1 + 45*sqrt(3)/91 + 11*sqrt(3)/(35*pi)",
+                is_exact: true,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.0595675646420607,
+                exact: "-1 + 45*sqrt(3)/104 + 9*sqrt(3)/(16*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.04516411494555269,
+                    exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.20084097599771314,
+                    exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.5435370250158177,
+                    exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 2.2234574533325375,
+                    exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 4.943763046780012,
+                    exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 12.034709983159756,
+                    exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.04516411494555269,
+                    exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.20084097599771314,
+                    exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.5435370250158177,
+                    exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 2.2234574533325375,
+                    exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 4.943763046780012,
+                    exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 12.034709983159756,
+                    exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.04516411494555269,
+                    exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.20084097599771314,
+                    exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.5435370250158177,
+                    exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 2.2234574533325375,
+                    exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 4.943763046780012,
+                    exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 12.034709983159756,
+                    exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.04516411494555269,
+                    exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.20084097599771314,
+                    exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.5435370250158177,
+                    exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 2.2234574533325375,
+                    exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 4.943763046780012,
+                    exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 12.034709983159756,
+                    exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 0.75,
+            },
+        ],
+        eps_lattice: EPS_TRIANGULAR_1,
+        eps_at: eps_at_triangular_1,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Triangular,
+        h_over_d: 1.2999999999999998,
+        h_over_d_exact: "13/10",
+        dy: 0.8660254037844386,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.05864390936539774,
+                exact: "-1 - 1328952750*sqrt(3)/10604499373 + 1713960000*sqrt(3)/(815730721*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: -0.03813795994643055,
+                exact: "-1 + 18011250*sqrt(3)/815730721 + 105120000*sqrt(3)/(62748517*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: -0.03813795994643055,
+                exact: "-1 + 18011250*sqrt(3)/815730721 + 105120000*sqrt(3)/(62748517*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.05864390936539774,
+                exact: "-1 - 1328952750*sqrt(3)/10604499373 + 1713960000*sqrt(3)/(815730721*pi)",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: -0.050193184141538054,
+                exact: "-1 + 1970420250*sqrt(3)/10604499373 - 1827991680*sqrt(282)/74231495611 + 571320000*sqrt(3)/(815730721*pi) + 700093952*sqrt(282)/(5710115047*pi)",
+                is_exact: true,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: -0.03813795994643055,
+                exact: "-1 + 18011250*sqrt(3)/815730721 + 105120000*sqrt(3)/(62748517*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: 0.03543527052659434,
+                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.2904520465984915,
+                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10139289539779703,
+                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -4.098346679482888,
+                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 16.796445505228416,
+                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -2.8613551947261464,
+                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: 0.03543527052659434,
+                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.2904520465984915,
+                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10139289539779703,
+                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -4.098346679482888,
+                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 16.796445505228416,
+                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -2.8613551947261464,
+                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: 0.03543527052659434,
+                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.2904520465984915,
+                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10139289539779703,
+                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -4.098346679482888,
+                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 16.796445505228416,
+                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -2.8613551947261464,
+                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: 0.03543527052659434,
+                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.2904520465984915,
+                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10139289539779703,
+                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -4.098346679482888,
+                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 16.796445505228416,
+                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -2.8613551947261464,
+                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 0.75,
+            },
+        ],
+        eps_lattice: EPS_TRIANGULAR_13_10,
+        eps_at: eps_at_triangular_13_10,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.0,
+        h_over_d_exact: "1",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.15384615384615385,
+                exact: "2/13",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.1166461213915846,
+                    exact: "-3168/(8645*pi)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: -0.7581997890452998,
+                    exact: "-1584/(665*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -6.5,
+                    exact: "-13/2",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.1166461213915846,
+                    exact: "-3168/(8645*pi)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: -0.7581997890452998,
+                    exact: "-1584/(665*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -6.5,
+                    exact: "-13/2",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.1166461213915846,
+                    exact: "-3168/(8645*pi)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: -0.7581997890452998,
+                    exact: "-1584/(665*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -6.5,
+                    exact: "-13/2",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.1166461213915846,
+                    exact: "-3168/(8645*pi)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: -0.7581997890452998,
+                    exact: "-1584/(665*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -6.5,
+                    exact: "-13/2",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_1,
+        eps_at: eps_at_square_1,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.2999999999999998,
+        h_over_d_exact: "13/10",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.04776067573867064,
+                exact: "-9963031873/10604499373 + 2285280000/(815730721*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: -0.09180480859444795,
+                exact: "-10508554873/10604499373 + 2304240000/(815730721*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: -0.04776067573867064,
+                exact: "-9963031873/10604499373 + 2285280000/(815730721*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.09180480859444795,
+                exact: "-10508554873/10604499373 + 2304240000/(815730721*pi)",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: -0.0712280248596095,
+                exact: "-0.07122802485960950036897535301301603803909957634109",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: -0.04776067573867064,
+                exact: "-9963031873/10604499373 + 2285280000/(815730721*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0 (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: 0.044376061742944464,
+                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.0,
+                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: 0.044376061742944464,
+                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.0,
+                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: 0.044376061742944464,
+                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.0,
+                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: 0.044376061742944464,
+                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 0.0,
+                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.0,
+                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_13_10,
+        eps_at: eps_at_square_13_10,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.7,
+        h_over_d_exact: "17/10",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.0015136622210390432,
+                exact: "-102554465233/90684846733 + 24750240000/(6975757441*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.02017328043193801,
+                exact: "-100423922233/90684846733 + 24710640000/(6975757441*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.02017328043193801,
+                exact: "-100423922233/90684846733 + 24710640000/(6975757441*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.0015136622210390432,
+                exact: "-102554465233/90684846733 + 24750240000/(6975757441*pi)",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: 0.00832455035305486,
+                exact: "0.008324550353054860147437244165545584218391353536934",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.02017328043193801,
+                exact: "-100423922233/90684846733 + 24710640000/(6975757441*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.017401565819696763,
+                    exact: "53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.043210979017727254,
+                    exact: "-969678008640000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) - 29384182080000*sqrt(5)/(497950493410903*pi) + 906438297600000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2) + 27467827200000*sqrt(5)/(14111957303143*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10650659280398042,
+                    exact: "-56496000/(11108293*pi) + 1584000*sqrt(5)/(653429*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 1.2415830697493015,
+                    exact: "(-969678008640000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) - 29384182080000*sqrt(5)/(497950493410903*pi) + 906438297600000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2) + 27467827200000*sqrt(5)/(14111957303143*pi^2)) / (106047661878048000/(53018623587908251*pi) + 106047661878048000*sqrt(5)/(59256108715897457*pi) - 26094435840000000/(4078355660608327*pi^2) - 1373391360000000*sqrt(5)/(239903274153431*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 1.5415285190880992,
+                    exact: "(7061590517214276840297600000000/(71658906533678746333548590593201*pi^2) - 178082469780309832320000000000*sqrt(2)/(4215229796098749784326387681953*pi^2) + 56986390329699146342400000000*sqrt(5)/(4215229796098749784326387681953*pi^2) - 5396438478191207040000000000*sqrt(10)/(247954693888161752019199275409*pi^2) - 13202106327541541127168000000000/(2030819213505065685566154389281*pi^3) + 332936849762045337600000000000*sqrt(2)/(119459953735592099150950258193*pi^3) - 106539791923854508032000000000*sqrt(5)/(119459953735592099150950258193*pi^3) + 10088995447334707200000000000*sqrt(10)/(7027056102093652891232368129*pi^3) + 6170550779559722434560000000000/(57553580949536274489729071761*pi^4) - 155611815787118592000000000000*sqrt(2)/(3385504761737427911160533633*pi^4) + 49795781051877949440000000000*sqrt(5)/(3385504761737427911160533633*pi^4) - 4715509569306624000000000000*sqrt(10)/(199147338925731053597678449*pi^4)) / (2901495500168605126105466898432000000/(144965967917632103832768798770045623*pi^2) + 22492213179601590124848580608000000*sqrt(5)/(3141677323292336615570840840217707*pi^2) - 75152790366900448382484480000000000/(586906752702963983128618618502209*pi^3) - 582579770286049987461120000000000*sqrt(5)/(12719341389847516662230124859181*pi^3) + 486640587552443596800000000000000/(2376140699202283332504528819847*pi^4) + 71675745453460684800000000000000*sqrt(5)/(978410876142116666325394219937*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 6.120517768776074,
+                    exact: "(56496000/(11108293*pi) - 1584000*sqrt(5)/(653429*pi)) / (53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.017401565819696763,
+                    exact: "53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.21128341897633712,
+                    exact: "-1616130014400000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) + 1510730496000000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10650659280398042,
+                    exact: "-56496000/(11108293*pi) + 1584000*sqrt(5)/(653429*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 6.070816303702575,
+                    exact: "(-1616130014400000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) + 1510730496000000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2)) / (106047661878048000/(53018623587908251*pi) + 106047661878048000*sqrt(5)/(59256108715897457*pi) - 26094435840000000/(4078355660608327*pi^2) - 1373391360000000*sqrt(5)/(239903274153431*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 36.85481059330099,
+                    exact: "(7485534724060978065360000000000/(71658906533678746333548590593201*pi^2) - 296804116300516387200000000000*sqrt(2)/(4215229796098749784326387681953*pi^2) - 13994697809884155724800000000000/(2030819213505065685566154389281*pi^3) + 554894749603408896000000000000*sqrt(2)/(119459953735592099150950258193*pi^3) + 6541001211324450816000000000000/(57553580949536274489729071761*pi^4) - 259353026311864320000000000000*sqrt(2)/(3385504761737427911160533633*pi^4)) / (2901495500168605126105466898432000000/(144965967917632103832768798770045623*pi^2) + 22492213179601590124848580608000000*sqrt(5)/(3141677323292336615570840840217707*pi^2) - 75152790366900448382484480000000000/(586906752702963983128618618502209*pi^3) - 582579770286049987461120000000000*sqrt(5)/(12719341389847516662230124859181*pi^3) + 486640587552443596800000000000000/(2376140699202283332504528819847*pi^4) + 71675745453460684800000000000000*sqrt(5)/(978410876142116666325394219937*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 6.120517768776074,
+                    exact: "(56496000/(11108293*pi) - 1584000*sqrt(5)/(653429*pi)) / (53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.01251402752365134,
+                    exact: "2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.043210979017727254,
+                    exact: "-969678008640000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) - 29384182080000*sqrt(5)/(497950493410903*pi) + 906438297600000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2) + 27467827200000*sqrt(5)/(14111957303143*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10650659280398042,
+                    exact: "-56496000/(11108293*pi) + 1584000*sqrt(5)/(653429*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 1.7265016772601427,
+                    exact: "(-969678008640000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) - 29384182080000*sqrt(5)/(497950493410903*pi) + 906438297600000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2) + 27467827200000*sqrt(5)/(14111957303143*pi^2)) / (4347954136999968000/(1007353848170256769*pi) - 56309045760000000/(4078355660608327*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 2.980808041582086,
+                    exact: "(7061590517214276840297600000000/(71658906533678746333548590593201*pi^2) - 178082469780309832320000000000*sqrt(2)/(4215229796098749784326387681953*pi^2) + 56986390329699146342400000000*sqrt(5)/(4215229796098749784326387681953*pi^2) - 5396438478191207040000000000*sqrt(10)/(247954693888161752019199275409*pi^2) - 13202106327541541127168000000000/(2030819213505065685566154389281*pi^3) + 332936849762045337600000000000*sqrt(2)/(119459953735592099150950258193*pi^3) - 106539791923854508032000000000*sqrt(5)/(119459953735592099150950258193*pi^3) + 10088995447334707200000000000*sqrt(10)/(7027056102093652891232368129*pi^3) + 6170550779559722434560000000000/(57553580949536274489729071761*pi^4) - 155611815787118592000000000000*sqrt(2)/(3385504761737427911160533633*pi^4) + 49795781051877949440000000000*sqrt(5)/(3385504761737427911160533633*pi^4) - 4715509569306624000000000000*sqrt(10)/(199147338925731053597678449*pi^4)) / (18904705177455136499935232001024000000/(1014761775423424726829381591390319361*pi^2) - 489658296925425014461071360000000000/(4108347268920747881900330329515463*pi^3) + 3170708634401773977600000000000000/(16632984894415983327531701738929*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 8.510976390509324,
+                    exact: "(56496000/(11108293*pi) - 1584000*sqrt(5)/(653429*pi)) / (2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.01251402752365134,
+                    exact: "2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.21128341897633712,
+                    exact: "-1616130014400000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) + 1510730496000000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.10650659280398042,
+                    exact: "-56496000/(11108293*pi) + 1584000*sqrt(5)/(653429*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 8.441863284103155,
+                    exact: "(-1616130014400000/(8465158387985351*pi) + 91825569000000*sqrt(2)/(497950493410903*pi) + 1510730496000000/(239903274153431*pi^2) - 85836960000000*sqrt(2)/(14111957303143*pi^2)) / (4347954136999968000/(1007353848170256769*pi) - 56309045760000000/(4078355660608327*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 71.2650557074889,
+                    exact: "(7485534724060978065360000000000/(71658906533678746333548590593201*pi^2) - 296804116300516387200000000000*sqrt(2)/(4215229796098749784326387681953*pi^2) - 13994697809884155724800000000000/(2030819213505065685566154389281*pi^3) + 554894749603408896000000000000*sqrt(2)/(119459953735592099150950258193*pi^3) + 6541001211324450816000000000000/(57553580949536274489729071761*pi^4) - 259353026311864320000000000000*sqrt(2)/(3385504761737427911160533633*pi^4)) / (18904705177455136499935232001024000000/(1014761775423424726829381591390319361*pi^2) - 489658296925425014461071360000000000/(4108347268920747881900330329515463*pi^3) + 3170708634401773977600000000000000/(16632984894415983327531701738929*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 8.510976390509324,
+                    exact: "(56496000/(11108293*pi) - 1584000*sqrt(5)/(653429*pi)) / (2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_17_10,
+        eps_at: eps_at_square_17_10,
+    },
+];
+/// Everything the derivation found; see `shearsph-codegen show`. The
+/// top-level fields are the paper's discretisation (triangular, h = d).
 pub const INFO: KernelInfo = KernelInfo {
     name: "composite",
     title: "Composite kernel (R = 1)",
     reference: "Potapov & Reshetnikova 2021, Computer Research and Modeling 13(5):979-992; simplified for h = d as in Reshetnikova 2024, eq. (22a), (22b)",
     support: 1.0,
     support_exact: "1",
-    eps: EpsInfo {
-        t0: Derived {
-            value: -0.0007399187102630999,
-            exact: "-1 + 15*sqrt(3)/26",
-            is_exact: true,
-        },
-        half_period: Derived {
-            value: 0.0595675646420607,
-            exact: "-1 + 45*sqrt(3)/104 + 9*sqrt(3)/(16*pi)",
-            is_exact: true,
-        },
-        max: Derived {
-            value: 0.0595675646420607,
-            exact: "-1 + 45*sqrt(3)/104 + 9*sqrt(3)/(16*pi)",
-            is_exact: true,
-        },
-        t_max: Derived {
-            value: 0.5,
-            exact: "1/2",
-            is_exact: true,
-        },
-        min: Derived {
-            value: -0.0007399187102630999,
-            exact: "-1 + 15*sqrt(3)/26",
-            is_exact: true,
-        },
-        t_min: Derived {
-            value: 0.0,
-            exact: "0",
-            is_exact: true,
-        },
-        mean: Derived {
-            value: 0.02978343680948056,
-            exact: "-1 + 45*sqrt(3)/91 + 11*sqrt(3)/(35*pi)",
-            is_exact: true,
-        },
-    },
+    eps: DISCRETISATIONS[0].eps,
     c0_default: "field-av",
-    c0_models: &[
-        C0Model {
-            name: "field-av",
-            description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-            a: Derived {
-                value: -0.04516411494555269,
-                exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.20084097599771314,
-                exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.5435370250158177,
-                exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 2.2234574533325375,
-                exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 4.943763046780012,
-                exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 12.034709983159756,
-                exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "field",
-            description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-            a: Derived {
-                value: -0.04516411494555269,
-                exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.20084097599771314,
-                exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.5435370250158177,
-                exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 2.2234574533325375,
-                exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 4.943763046780012,
-                exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 12.034709983159756,
-                exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "pair-av",
-            description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-            a: Derived {
-                value: -0.04516411494555269,
-                exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.20084097599771314,
-                exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.5435370250158177,
-                exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 2.2234574533325375,
-                exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 4.943763046780012,
-                exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 12.034709983159756,
-                exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "pair",
-            description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-            a: Derived {
-                value: -0.04516411494555269,
-                exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.20084097599771314,
-                exact: "-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.5435370250158177,
-                exact: "-10296/(665*pi) + 1320*sqrt(3)/(133*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 2.2234574533325375,
-                exact: "(-891*sqrt(3)/(3458*pi) - 891*sqrt(3)/(2660*pi^2)) / (3168/(665*pi) - 3564*sqrt(3)/(1729*pi) - 1782*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 4.943763046780012,
-                exact: "(2381643/(11957764*pi^2) + 2381643/(4599140*pi^3) + 2381643/(7075600*pi^4)) / (19915632/(561925*pi^2) - 22581504*sqrt(3)/(1149785*pi^2) + 38106288/(1149785*pi^3) - 11290752*sqrt(3)/(442225*pi^3) + 9526572/(442225*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 12.034709983159756,
-                exact: "(10296/(665*pi) - 1320*sqrt(3)/(133*pi)) / (1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2))",
-                is_exact: true,
-            },
-        },
-    ],
+    c0_models: DISCRETISATIONS[0].c0_models,
     printed_c0: Some(PrintedC0 {
         eps0: 0.05957,
         factor: 1.0,
@@ -293,75 +1532,14 @@ pub const INFO: KernelInfo = KernelInfo {
         p: 5.0,
         q: 12.0,
     }),
-    stencil_t0: &[
-        StencilPoint {
-            x: -0.5,
-            k: -1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.5,
-            k: -1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 0i32,
-            r2: 0.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: -0.5,
-            k: 1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.5,
-            k: 1i32,
-            r2: 1.0,
-        },
-    ],
-    stencil_half: &[
-        StencilPoint {
-            x: 0.0,
-            k: -1i32,
-            r2: 0.75,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 0i32,
-            r2: 0.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 1i32,
-            r2: 0.75,
-        },
-    ],
-    eps_at,
+    stencil_t0: DISCRETISATIONS[0].stencil_t0,
+    stencil_half: DISCRETISATIONS[0].stencil_half,
+    eps_at: eps_at_triangular_1,
     printed_eps: Some(PrintedEps {
         t0: "-0.000740",
         half_period: "0.059568",
         mean: "0.029873",
     }),
+    discretisations: &DISCRETISATIONS,
     flops_per_pair: 11u32,
 };

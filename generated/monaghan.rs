@@ -2,7 +2,8 @@
 // Source: kernels/monaghan.toml
 
 use crate::kernel::{
-    C0Model, Derived, EpsInfo, Kernel, KernelInfo, PrintedC0, PrintedEps, StencilPoint,
+    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
+    EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps, StencilPoint,
 };
 /// Monaghan cubic spline (R = 2).
 ///
@@ -129,234 +130,2330 @@ impl Kernel for Monaghan {
         )
     }
 }
-/// Sum of W over one lattice row at height y (y2 = y^2 in d^2), the
-/// row's particles at x = a + phase, a integer.
-fn row(phase: f64, y2: f64) -> f64 {
-    let phase = phase - phase.floor();
-    let mut sum = 0.0;
-    for a in -3i32..=3i32 {
-        let x = a as f64 + phase;
-        sum += <Monaghan as Kernel>::w(x * x + y2);
-    }
-    sum
+const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -2i32,
+            phase0: 0.0,
+            y2: 3.0,
+        },
+        EpsRow {
+            k: -1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 2i32,
+            phase0: 0.0,
+            y2: 3.0,
+        },
+    ],
+    reach: 3i32,
+    inv_h2: 1.0,
+    area: 0.8660254037844386,
+};
+/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Monaghan>(&EPS_TRIANGULAR_1, t, n, walls)
 }
-/// eps(t, n) = rho/rho0 - 1 for a particle of layer n under the ideal
-/// shear (7), t as a fraction of T = d N^2 / U (h = d); `walls = Some(N)`
-/// for fixed walls at |j| >= N, `None` for an interior particle.
-pub fn eps_at(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    let n = n as f64;
-    let walls = walls.map(|nl| nl as f64);
-    let mut sum = 0.0;
-    let j = n + -2.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.0 + speed * t, 3.0);
-    let j = n + -1.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.5 + speed * t, 0.75);
-    sum += row(0.0, 0.0);
-    let j = n + 1.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.5 + speed * t, 0.75);
-    let j = n + 2.0;
-    let speed = match walls {
-        Some(nl) if j.abs() >= nl => n * n - nl * nl,
-        _ => n * n - j * j,
-    };
-    sum += row(0.0 + speed * t, 3.0);
-    0.8660254037844386 * sum - 1.0
+const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -3i32,
+            phase0: 0.5,
+            y2: 6.75,
+        },
+        EpsRow {
+            k: -2i32,
+            phase0: 0.0,
+            y2: 3.0,
+        },
+        EpsRow {
+            k: -1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.5,
+            y2: 0.75,
+        },
+        EpsRow {
+            k: 2i32,
+            phase0: 0.0,
+            y2: 3.0,
+        },
+        EpsRow {
+            k: 3i32,
+            phase0: 0.5,
+            y2: 6.75,
+        },
+    ],
+    reach: 4i32,
+    inv_h2: 0.5917159763313609,
+    area: 0.5124410673280702,
+};
+/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Monaghan>(&EPS_TRIANGULAR_13_10, t, n, walls)
 }
-/// Everything the derivation found; see `shearsph-codegen show`.
+const EPS_SQUARE_1: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+    ],
+    reach: 3i32,
+    inv_h2: 1.0,
+    area: 1.0,
+};
+/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Monaghan>(&EPS_SQUARE_1, t, n, walls)
+}
+const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+    ],
+    reach: 4i32,
+    inv_h2: 0.5917159763313609,
+    area: 0.591715976331361,
+};
+/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Monaghan>(&EPS_SQUARE_13_10, t, n, walls)
+}
+const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
+    rows: &[
+        EpsRow {
+            k: -3i32,
+            phase0: 0.0,
+            y2: 9.0,
+        },
+        EpsRow {
+            k: -2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+        EpsRow {
+            k: -1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 0i32,
+            phase0: 0.0,
+            y2: 0.0,
+        },
+        EpsRow {
+            k: 1i32,
+            phase0: 0.0,
+            y2: 1.0,
+        },
+        EpsRow {
+            k: 2i32,
+            phase0: 0.0,
+            y2: 4.0,
+        },
+        EpsRow {
+            k: 3i32,
+            phase0: 0.0,
+            y2: 9.0,
+        },
+    ],
+    reach: 5i32,
+    inv_h2: 0.3460207612456747,
+    area: 0.3460207612456747,
+};
+/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
+pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<Monaghan>(&EPS_SQUARE_17_10, t, n, walls)
+}
+/// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
+pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
+    DiscretisationInfo {
+        lattice: Lattice::Triangular,
+        h_over_d: 1.0,
+        h_over_d_exact: "1",
+        dy: 0.8660254037844386,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.004120112429643053,
+                exact: "-1 - 675/(14*pi) + 415*sqrt(3)/(14*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.0019840550855743043,
+                exact: "-1 - 1665/(112*pi) + 655*sqrt(3)/(28*pi) - 275*sqrt(21)/(56*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.0019840550855743043,
+                exact: "-1 - 1665/(112*pi) + 655*sqrt(3)/(28*pi) - 275*sqrt(21)/(56*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.004249125907779437,
+                exact: "-0.0042491259077794373656333554",
+                is_exact: false,
+            },
+            t_min: Derived {
+                value: 0.062295633637281085,
+                exact: "0.06229563363728",
+                is_exact: false,
+            },
+            mean: Derived {
+                value: -0.0012754686262658203,
+                exact: "-0.001275468626265820346014698850246540798479986149801",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.0019840550855743043,
+                exact: "-1 - 1665/(112*pi) + 655*sqrt(3)/(28*pi) - 275*sqrt(21)/(56*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.002291400167775495,
+                    exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.05675106809638476,
+                    exact: "-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0017071241110126368,
+                    exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 12.383491302498909,
+                    exact: "(-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)) / (-30/pi + 690*sqrt(7)/(49*pi) - 24975/(56*pi^2) + 232425*sqrt(3)/(196*pi^2) + 574425*sqrt(7)/(2744*pi^2) - 654075*sqrt(21)/(1372*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 153.3508568390661,
+                    exact: "(100689570163125/(843308032*pi^4) + 15979185545625*sqrt(3)/(1686616064*pi^4) - 4886735518125*sqrt(7)/(421654016*pi^4) - 2418659240625*sqrt(21)/(105413504*pi^4)) / (784800/(343*pi^2) - 41400*sqrt(7)/(49*pi^2) + 163336500/(2401*pi^3) - 396488250*sqrt(3)/(2401*pi^3) - 8616375*sqrt(7)/(343*pi^3) + 148864500*sqrt(21)/(2401*pi^3) + 1276934473125/(134456*pi^4) - 330076468125*sqrt(3)/(134456*pi^4) - 1924704433125*sqrt(7)/(537824*pi^4) + 61964848125*sqrt(21)/(67228*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.7450135227448826,
+                    exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.002291400167775495,
+                    exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.1921090716370499,
+                    exact: "-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0017071241110126368,
+                    exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 41.919581384937786,
+                    exact: "(-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)) / (-30/pi + 690*sqrt(7)/(49*pi) - 24975/(56*pi^2) + 232425*sqrt(3)/(196*pi^2) + 574425*sqrt(7)/(2744*pi^2) - 654075*sqrt(21)/(1372*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 1757.2513034884223,
+                    exact: "(674728261875/(2458624*pi^4) - 777909740625*sqrt(3)/(4917248*pi^4) - 88967278125*sqrt(7)/(1229312*pi^4) + 25626459375*sqrt(21)/(614656*pi^4)) / (784800/(343*pi^2) - 41400*sqrt(7)/(49*pi^2) + 163336500/(2401*pi^3) - 396488250*sqrt(3)/(2401*pi^3) - 8616375*sqrt(7)/(343*pi^3) + 148864500*sqrt(21)/(2401*pi^3) + 1276934473125/(134456*pi^4) - 330076468125*sqrt(3)/(134456*pi^4) - 1924704433125*sqrt(7)/(537824*pi^4) + 61964848125*sqrt(21)/(67228*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 0.7450135227448826,
+                    exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.001353309318153274,
+                    exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.05675106809638476,
+                    exact: "-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0017071241110126368,
+                    exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 20.967515458264664,
+                    exact: "(-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)) / (30/(7*pi) + 24975/(392*pi^2) - 9825*sqrt(3)/(98*pi^2) + 4125*sqrt(21)/(196*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 439.63670449256756,
+                    exact: "(100689570163125/(843308032*pi^4) + 15979185545625*sqrt(3)/(1686616064*pi^4) - 4886735518125*sqrt(7)/(421654016*pi^4) - 2418659240625*sqrt(21)/(105413504*pi^4)) / (900/(49*pi^2) + 374625/(686*pi^3) - 294750*sqrt(3)/(343*pi^3) + 61875*sqrt(21)/(343*pi^3) + 6686533125/(153664*pi^4) - 245379375*sqrt(3)/(19208*pi^4) - 121584375*sqrt(7)/(9604*pi^4) + 103021875*sqrt(21)/(38416*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 1.2614441414932238,
+                    exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.001353309318153274,
+                    exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.1921090716370499,
+                    exact: "-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0017071241110126368,
+                    exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 70.9775175047202,
+                    exact: "(-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)) / (30/(7*pi) + 24975/(392*pi^2) - 9825*sqrt(3)/(98*pi^2) + 4125*sqrt(21)/(196*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 5037.807991132862,
+                    exact: "(674728261875/(2458624*pi^4) - 777909740625*sqrt(3)/(4917248*pi^4) - 88967278125*sqrt(7)/(1229312*pi^4) + 25626459375*sqrt(21)/(614656*pi^4)) / (900/(49*pi^2) + 374625/(686*pi^3) - 294750*sqrt(3)/(343*pi^3) + 61875*sqrt(21)/(343*pi^3) + 6686533125/(153664*pi^4) - 245379375*sqrt(3)/(19208*pi^4) - 121584375*sqrt(7)/(9604*pi^4) + 103021875*sqrt(21)/(38416*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 1.2614441414932238,
+                    exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: -1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+        ],
+        eps_lattice: EPS_TRIANGULAR_1,
+        eps_at: eps_at_triangular_1,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Triangular,
+        h_over_d: 1.2999999999999998,
+        h_over_d_exact: "13/10",
+        dy: 0.8660254037844386,
+        eps: EpsInfo {
+            t0: Derived {
+                value: 0.005883522363088215,
+                exact: "-1 - 52380000/(2599051*pi) + 34983500*sqrt(3)/(2599051*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.0015190531357875494,
+                exact: "-1 - 47025000/(2599051*pi) + 73718500*sqrt(3)/(2599051*pi) - 5507500*sqrt(21)/(2599051*pi) - 6257500*sqrt(57)/(2599051*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.005883522363088215,
+                exact: "-1 - 52380000/(2599051*pi) + 34983500*sqrt(3)/(2599051*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            min: Derived {
+                value: 0.0012980180074561173,
+                exact: "0.0012980180074561172261426222",
+                is_exact: false,
+            },
+            t_min: Derived {
+                value: 0.42038233196537356,
+                exact: "0.4203823319654",
+                is_exact: false,
+            },
+            mean: Derived {
+                value: 0.0033790040480300224,
+                exact: "0.003379004048030022391752431738094024797838282490821",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.005883522363088215,
+                exact: "-1 - 52380000/(2599051*pi) + 34983500*sqrt(3)/(2599051*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0 (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.006849565759363801,
+                    exact: "-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-57060000/(2599051*pi) + 43920000*sqrt(3)/(2599051*pi) - 7598228760000000/(6755066100601*pi^2) + 25424190000000*sqrt(3)/(39970805329*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (99370800000000/(74231495611*pi^2) - 5012150400000000*sqrt(3)/(6755066100601*pi^2) + 1999373116838400000000000/(17556761303833129651*pi^3) - 1157766461391600000000000*sqrt(3)/(17556761303833129651*pi^3) + 113117666433137253900000000000000/(45630918023488799452561201*pi^4) - 386357623315408800000000000000*sqrt(3)/(270005432091649700902729*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.006849565759363801,
+                    exact: "-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.253726265201419,
+                    exact: "-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 18.521339462619125,
+                    exact: "(-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)) / (-57060000/(2599051*pi) + 43920000*sqrt(3)/(2599051*pi) - 7598228760000000/(6755066100601*pi^2) + 25424190000000*sqrt(3)/(39970805329*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 343.0400154895725,
+                    exact: "(7855393502301198187500000000/(270005432091649700902729*pi^4) - 26830390508014500000000000*sqrt(3)/(1597665278648814798241*pi^4)) / (99370800000000/(74231495611*pi^2) - 5012150400000000*sqrt(3)/(6755066100601*pi^2) + 1999373116838400000000000/(17556761303833129651*pi^3) - 1157766461391600000000000*sqrt(3)/(17556761303833129651*pi^3) + 113117666433137253900000000000000/(45630918023488799452561201*pi^4) - 386357623315408800000000000000*sqrt(3)/(270005432091649700902729*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.0023778621509887685,
+                    exact: "3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -0.0,
+                    exact: "(0) / (6600000/(2599051*pi) + 345708000000000/(6755066100601*pi^2) - 230891100000000*sqrt(3)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (43560000000000/(6755066100601*pi^2) + 4563345600000000000000/(17556761303833129651*pi^3) - 3047762520000000000000*sqrt(3)/(17556761303833129651*pi^3) + 21495855495510000000000000000/(3510070617191446111735477*pi^4) - 159641800797600000000000000000*sqrt(3)/(45630918023488799452561201*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.0023778621509887685,
+                    exact: "3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.253726265201419,
+                    exact: "-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 53.35176076037754,
+                    exact: "(-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)) / (6600000/(2599051*pi) + 345708000000000/(6755066100601*pi^2) - 230891100000000*sqrt(3)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 2846.41037623256,
+                    exact: "(7855393502301198187500000000/(270005432091649700902729*pi^4) - 26830390508014500000000000*sqrt(3)/(1597665278648814798241*pi^4)) / (43560000000000/(6755066100601*pi^2) + 4563345600000000000000/(17556761303833129651*pi^3) - 3047762520000000000000*sqrt(3)/(17556761303833129651*pi^3) + 21495855495510000000000000000/(3510070617191446111735477*pi^4) - 159641800797600000000000000000*sqrt(3)/(45630918023488799452561201*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: -1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 1i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: 0.0,
+                k: -3i32,
+                r2: 6.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: -1i32,
+                r2: 4.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: -1i32,
+                r2: 4.75,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 1i32,
+                r2: 4.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 0.75,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 1.75,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 1i32,
+                r2: 4.75,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 3.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 3i32,
+                r2: 6.75,
+            },
+        ],
+        eps_lattice: EPS_TRIANGULAR_13_10,
+        eps_at: eps_at_triangular_13_10,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.0,
+        h_over_d_exact: "1",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: 0.0008618327766461242,
+                exact: "-1 + 220/(7*pi) - 20*sqrt(2)/pi",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: -0.002452661280266411,
+                exact: "-1 + 445/(7*pi) - 265*sqrt(5)/(28*pi) - 305*sqrt(13)/(28*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.0008618327766461242,
+                exact: "-1 + 220/(7*pi) - 20*sqrt(2)/pi",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.002452661280266411,
+                exact: "-1 + 445/(7*pi) - 265*sqrt(5)/(28*pi) - 305*sqrt(13)/(28*pi)",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: -0.0006614982691723685,
+                exact: "-0.000661498269172368434424832520347136733792346420",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.0008618327766461242,
+                exact: "-1 + 220/(7*pi) - 20*sqrt(2)/pi",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0 (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.0008731223154313908,
+                    exact: "-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-30/pi + 180*sqrt(2)/(7*pi) + 13800/(7*pi^2) - 69000*sqrt(2)/(49*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (108900/(49*pi^2) - 10800*sqrt(2)/(7*pi^2) - 90252000/(343*pi^3) + 9108000*sqrt(2)/(49*pi^3) + 18853560000/(2401*pi^4) - 1904400000*sqrt(2)/(343*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.0008731223154313908,
+                    exact: "-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.08282302831525917,
+                    exact: "12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 47.429224320270706,
+                    exact: "(12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)) / (-30/pi + 180*sqrt(2)/(7*pi) + 13800/(7*pi^2) - 69000*sqrt(2)/(49*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 2249.531319622558,
+                    exact: "(333855000/(2401*pi^4) - 236070000*sqrt(2)/(2401*pi^4)) / (108900/(49*pi^2) - 10800*sqrt(2)/(7*pi^2) - 90252000/(343*pi^3) + 9108000*sqrt(2)/(49*pi^3) + 18853560000/(2401*pi^4) - 1904400000*sqrt(2)/(343*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.0005878497708079031,
+                    exact: "15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -0.0,
+                    exact: "(0) / (30/(7*pi) - 6600/(49*pi^2) + 600*sqrt(2)/(7*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 0.0,
+                    exact: "(0) / (900/(49*pi^2) - 396000/(343*pi^3) + 36000*sqrt(2)/(49*pi^3) + 78840000/(2401*pi^4) - 7920000*sqrt(2)/(343*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.0005878497708079031,
+                    exact: "15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.08282302831525917,
+                    exact: "12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.0,
+                    exact: "0",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 70.44574347748109,
+                    exact: "(12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)) / (30/(7*pi) - 6600/(49*pi^2) + 600*sqrt(2)/(7*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 4962.602774095069,
+                    exact: "(333855000/(2401*pi^4) - 236070000*sqrt(2)/(2401*pi^4)) / (900/(49*pi^2) - 396000/(343*pi^3) + 36000*sqrt(2)/(49*pi^3) + 78840000/(2401*pi^4) - 7920000*sqrt(2)/(343*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: -0.0,
+                    exact: "(0) / (15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_1,
+        eps_at: eps_at_square_1,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.2999999999999998,
+        h_over_d_exact: "13/10",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: -0.000053231044126574715,
+                exact: "-1 + 152729000/(2599051*pi) - 22280000*sqrt(2)/(2599051*pi) - 50560000*sqrt(5)/(2599051*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.003350663607352858,
+                exact: "-1 + 7919000/(199927*pi) - 23405000*sqrt(5)/(2599051*pi) - 905000*sqrt(13)/(199927*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.003350663607352858,
+                exact: "-1 + 7919000/(199927*pi) - 23405000*sqrt(5)/(2599051*pi) - 905000*sqrt(13)/(199927*pi)",
+                is_exact: true,
+            },
+            t_max: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            min: Derived {
+                value: -0.000053231044126574715,
+                exact: "-1 + 152729000/(2599051*pi) - 22280000*sqrt(2)/(2599051*pi) - 50560000*sqrt(5)/(2599051*pi)",
+                is_exact: true,
+            },
+            t_min: Derived {
+                value: 0.0,
+                exact: "0",
+                is_exact: true,
+            },
+            mean: Derived {
+                value: 0.0016840891136086363,
+                exact: "0.001684089113608636399161757494640796603355352315",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.5,
+                exact: "1/2",
+                is_exact: true,
+            },
+            eps0: Derived {
+                value: 0.003350663607352858,
+                exact: "-1 + 7919000/(199927*pi) - 23405000*sqrt(5)/(2599051*pi) - 905000*sqrt(13)/(199927*pi)",
+                is_exact: true,
+            },
+            symmetric: true,
+            label: "t = 0.5 T (exact: the maximum the search found is attained there)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.0034149528881587594,
+                    exact: "-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.01647116673773577,
+                    exact: "78692436000000/(519620469277*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 48433526280000*sqrt(5)/(519620469277*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) + 1293093000000*sqrt(13)/(74231495611*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 1390726800000*sqrt(65)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.00787478892843089,
+                    exact: "-2700000/(371293*pi) + 17793000*sqrt(5)/(2599051*pi) - 825000*sqrt(13)/(371293*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -2.4116243001256352,
+                    exact: "(78692436000000/(519620469277*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 48433526280000*sqrt(5)/(519620469277*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) + 1293093000000*sqrt(13)/(74231495611*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 1390726800000*sqrt(65)/(6755066100601*pi^2)) / (-12120000/(371293*pi) + 11862000*sqrt(5)/(2599051*pi) + 2970000*sqrt(13)/(371293*pi) + 13301900580000000/(6755066100601*pi^2) - 3206837514000000*sqrt(5)/(6755066100601*pi^2) - 34488030000000*sqrt(13)/(74231495611*pi^2) + 626146380000000*sqrt(65)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 5.815931764956461,
+                    exact: "(41329254760297613028000000000/(501438659598778015962211*pi^4) - 8136734010766398000000000000*sqrt(2)/(270005432091649700902729*pi^4) - 94918405059173160000000000*sqrt(5)/(2967092660347798911019*pi^4) + 4496668699131258120000000000*sqrt(10)/(270005432091649700902729*pi^4) + 1578531113745128280000000000*sqrt(13)/(501438659598778015962211*pi^4) + 55477294398153000000000000*sqrt(26)/(3510070617191446111735477*pi^4) - 1376349160215657240000000000*sqrt(65)/(501438659598778015962211*pi^4) - 242419669836868800000000000*sqrt(130)/(270005432091649700902729*pi^4)) / (13520274120000000/(6755066100601*pi^2) - 287534880000000*sqrt(5)/(965009442943*pi^2) - 71992800000000*sqrt(13)/(137858491849*pi^2) + 70460280000000*sqrt(65)/(965009442943*pi^2) - 4333898092319280000000000/(17556761303833129651*pi^3) + 1198167642980640000000000*sqrt(5)/(17556761303833129651*pi^3) + 1159892042378400000000000*sqrt(13)/(17556761303833129651*pi^3) - 44862925392720000000000*sqrt(65)/(2508108757690447093*pi^3) + 381888531875683351080000000000000/(45630918023488799452561201*pi^4) - 136406785030993808640000000000000*sqrt(5)/(45630918023488799452561201*pi^4) - 103573152025723440000000000000000*sqrt(13)/(45630918023488799452561201*pi^4) + 36786620317182051240000000000000*sqrt(65)/(45630918023488799452561201*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 2.3059729332537704,
+                    exact: "(2700000/(371293*pi) - 17793000*sqrt(5)/(2599051*pi) + 825000*sqrt(13)/(371293*pi)) / (-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.0034149528881587594,
+                    exact: "-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.14183064441722626,
+                    exact: "33526494000000/(74231495611*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 1059878160000*sqrt(5)/(5710115047*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) - 16290000000*sqrt(13)/(439239619*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 10425600000*sqrt(65)/(815730721*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.00787478892843089,
+                    exact: "-2700000/(371293*pi) + 17793000*sqrt(5)/(2599051*pi) - 825000*sqrt(13)/(371293*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 20.766120216331462,
+                    exact: "(33526494000000/(74231495611*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 1059878160000*sqrt(5)/(5710115047*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) - 16290000000*sqrt(13)/(439239619*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 10425600000*sqrt(65)/(815730721*pi^2)) / (-12120000/(371293*pi) + 11862000*sqrt(5)/(2599051*pi) + 2970000*sqrt(13)/(371293*pi) + 13301900580000000/(6755066100601*pi^2) - 3206837514000000*sqrt(5)/(6755066100601*pi^2) - 34488030000000*sqrt(13)/(74231495611*pi^2) + 626146380000000*sqrt(65)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 431.23174883913026,
+                    exact: "(112550688857776307868000000000/(270005432091649700902729*pi^4) - 277199935673670000000000000*sqrt(2)/(2967092660347798911019*pi^4) - 3818297999538124920000000000*sqrt(5)/(20769648622434592377133*pi^4) + 1542792130090852320000000000*sqrt(10)/(38572204584521385843247*pi^4) - 94516901786528280000000000*sqrt(13)/(1597665278648814798241*pi^4) + 39868700869980000000000000*sqrt(26)/(2967092660347798911019*pi^4) + 534872988734992200000000000*sqrt(65)/(20769648622434592377133*pi^4) - 1260375311527200000000000*sqrt(130)/(228237896949830685463*pi^4)) / (13520274120000000/(6755066100601*pi^2) - 287534880000000*sqrt(5)/(965009442943*pi^2) - 71992800000000*sqrt(13)/(137858491849*pi^2) + 70460280000000*sqrt(65)/(965009442943*pi^2) - 4333898092319280000000000/(17556761303833129651*pi^3) + 1198167642980640000000000*sqrt(5)/(17556761303833129651*pi^3) + 1159892042378400000000000*sqrt(13)/(17556761303833129651*pi^3) - 44862925392720000000000*sqrt(65)/(2508108757690447093*pi^3) + 381888531875683351080000000000000/(45630918023488799452561201*pi^4) - 136406785030993808640000000000000*sqrt(5)/(45630918023488799452561201*pi^4) - 103573152025723440000000000000000*sqrt(13)/(45630918023488799452561201*pi^4) + 36786620317182051240000000000000*sqrt(65)/(45630918023488799452561201*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 2.3059729332537704,
+                    exact: "(2700000/(371293*pi) - 17793000*sqrt(5)/(2599051*pi) + 825000*sqrt(13)/(371293*pi)) / (-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.0013541915337324933,
+                    exact: "3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: 0.01647116673773577,
+                    exact: "78692436000000/(519620469277*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 48433526280000*sqrt(5)/(519620469277*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) + 1293093000000*sqrt(13)/(74231495611*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 1390726800000*sqrt(65)/(6755066100601*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.00787478892843089,
+                    exact: "-2700000/(371293*pi) + 17793000*sqrt(5)/(2599051*pi) - 825000*sqrt(13)/(371293*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: -6.0815498869414295,
+                    exact: "(78692436000000/(519620469277*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 48433526280000*sqrt(5)/(519620469277*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) + 1293093000000*sqrt(13)/(74231495611*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 1390726800000*sqrt(65)/(6755066100601*pi^2)) / (6600000/(2599051*pi) - 52265400000000/(519620469277*pi^2) + 154473000000000*sqrt(5)/(6755066100601*pi^2) + 5973000000000*sqrt(13)/(519620469277*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 36.98524902735731,
+                    exact: "(41329254760297613028000000000/(501438659598778015962211*pi^4) - 8136734010766398000000000000*sqrt(2)/(270005432091649700902729*pi^4) - 94918405059173160000000000*sqrt(5)/(2967092660347798911019*pi^4) + 4496668699131258120000000000*sqrt(10)/(270005432091649700902729*pi^4) + 1578531113745128280000000000*sqrt(13)/(501438659598778015962211*pi^4) + 55477294398153000000000000*sqrt(26)/(3510070617191446111735477*pi^4) - 1376349160215657240000000000*sqrt(65)/(501438659598778015962211*pi^4) - 242419669836868800000000000*sqrt(130)/(270005432091649700902729*pi^4)) / (43560000000000/(6755066100601*pi^2) - 689903280000000000000/(1350520100294856127*pi^3) + 2039043600000000000000*sqrt(5)/(17556761303833129651*pi^3) + 78843600000000000000*sqrt(13)/(1350520100294856127*pi^3) + 659343886538040000000000000000/(45630918023488799452561201*pi^4) - 16147186268400000000000000000*sqrt(5)/(3510070617191446111735477*pi^4) - 624362468400000000000000000*sqrt(13)/(270005432091649700902729*pi^4) + 1845334458000000000000000000*sqrt(65)/(3510070617191446111735477*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 5.815121961902971,
+                    exact: "(2700000/(371293*pi) - 17793000*sqrt(5)/(2599051*pi) + 825000*sqrt(13)/(371293*pi)) / (3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2))",
+                    is_exact: true,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.0013541915337324933,
+                    exact: "3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2)",
+                    is_exact: true,
+                },
+                b: Derived {
+                    value: -0.14183064441722626,
+                    exact: "33526494000000/(74231495611*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 1059878160000*sqrt(5)/(5710115047*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) - 16290000000*sqrt(13)/(439239619*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 10425600000*sqrt(65)/(815730721*pi^2)",
+                    is_exact: true,
+                },
+                c: Derived {
+                    value: 0.00787478892843089,
+                    exact: "-2700000/(371293*pi) + 17793000*sqrt(5)/(2599051*pi) - 825000*sqrt(13)/(371293*pi)",
+                    is_exact: true,
+                },
+                s: Derived {
+                    value: 52.367276298909225,
+                    exact: "(33526494000000/(74231495611*pi^2) - 2601391500000*sqrt(2)/(39970805329*pi^2) - 1059878160000*sqrt(5)/(5710115047*pi^2) + 7688542500000*sqrt(10)/(519620469277*pi^2) - 16290000000*sqrt(13)/(439239619*pi^2) + 297292500000*sqrt(26)/(39970805329*pi^2) + 10425600000*sqrt(65)/(815730721*pi^2)) / (6600000/(2599051*pi) - 52265400000000/(519620469277*pi^2) + 154473000000000*sqrt(5)/(6755066100601*pi^2) + 5973000000000*sqrt(13)/(519620469277*pi^2))",
+                    is_exact: true,
+                },
+                p: Derived {
+                    value: 2742.3316269663,
+                    exact: "(112550688857776307868000000000/(270005432091649700902729*pi^4) - 277199935673670000000000000*sqrt(2)/(2967092660347798911019*pi^4) - 3818297999538124920000000000*sqrt(5)/(20769648622434592377133*pi^4) + 1542792130090852320000000000*sqrt(10)/(38572204584521385843247*pi^4) - 94516901786528280000000000*sqrt(13)/(1597665278648814798241*pi^4) + 39868700869980000000000000*sqrt(26)/(2967092660347798911019*pi^4) + 534872988734992200000000000*sqrt(65)/(20769648622434592377133*pi^4) - 1260375311527200000000000*sqrt(130)/(228237896949830685463*pi^4)) / (43560000000000/(6755066100601*pi^2) - 689903280000000000000/(1350520100294856127*pi^3) + 2039043600000000000000*sqrt(5)/(17556761303833129651*pi^3) + 78843600000000000000*sqrt(13)/(1350520100294856127*pi^3) + 659343886538040000000000000000/(45630918023488799452561201*pi^4) - 16147186268400000000000000000*sqrt(5)/(3510070617191446111735477*pi^4) - 624362468400000000000000000*sqrt(13)/(270005432091649700902729*pi^4) + 1845334458000000000000000000*sqrt(65)/(3510070617191446111735477*pi^4))",
+                    is_exact: true,
+                },
+                q: Derived {
+                    value: 5.815121961902971,
+                    exact: "(2700000/(371293*pi) - 17793000*sqrt(5)/(2599051*pi) + 825000*sqrt(13)/(371293*pi)) / (3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2))",
+                    is_exact: true,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: -1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: -1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_13_10,
+        eps_at: eps_at_square_13_10,
+    },
+    DiscretisationInfo {
+        lattice: Lattice::Square,
+        h_over_d: 1.7,
+        h_over_d_exact: "17/10",
+        dy: 1.0,
+        eps: EpsInfo {
+            t0: Derived {
+                value: 0.0017050522850008975,
+                exact: "-1 + 603545000/(9938999*pi) - 79360000*sqrt(2)/(9938999*pi) - 79360000*sqrt(5)/(9938999*pi) - 89360000*sqrt(10)/(9938999*pi)",
+                is_exact: true,
+            },
+            half_period: Derived {
+                value: 0.000763885369027226,
+                exact: "-1 + 705441000/(9938999*pi) - 85360000*sqrt(2)/(9938999*pi) - 106700000*sqrt(5)/(9938999*pi) - 18965000*sqrt(13)/(9938999*pi) - 2995000*sqrt(29)/(1419857*pi) - 21965000*sqrt(37)/(9938999*pi)",
+                is_exact: true,
+            },
+            max: Derived {
+                value: 0.0017164713710591214,
+                exact: "0.0017164713710591214557815971",
+                is_exact: false,
+            },
+            t_max: Derived {
+                value: 0.040052333253420426,
+                exact: "0.04005233325342",
+                is_exact: false,
+            },
+            min: Derived {
+                value: 0.0007604379418278106,
+                exact: "0.00076043794182781061435601136",
+                is_exact: false,
+            },
+            t_min: Derived {
+                value: 0.46873237311478994,
+                exact: "0.4687323731148",
+                is_exact: false,
+            },
+            mean: Derived {
+                value: 0.0012408995253049124,
+                exact: "0.00124089952530491229992552040023120849337908435",
+                is_exact: false,
+            },
+        },
+        c0_configuration: C0Configuration {
+            t: Derived {
+                value: 0.040052333253420426,
+                exact: "0.04005233325342",
+                is_exact: false,
+            },
+            eps0: Derived {
+                value: 0.0017164713710591214,
+                exact: "0.0017164713710591214557815971",
+                is_exact: false,
+            },
+            symmetric: false,
+            label: "t = 0.040052333253420427593 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits)",
+        },
+        c0_models: &[
+            C0Model {
+                name: "field-av",
+                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                a: Derived {
+                    value: -0.00170104585524044,
+                    exact: "-0.00170104585524044019050272161473 (30 significant digits)",
+                    is_exact: false,
+                },
+                b: Derived {
+                    value: 0.003556358430417887,
+                    exact: "0.00355635843041788697004274802454 (30 significant digits)",
+                    is_exact: false,
+                },
+                c: Derived {
+                    value: -0.00022937375762676143,
+                    exact: "-0.000229373757626761419058655712473 (30 significant digits)",
+                    is_exact: false,
+                },
+                s: Derived {
+                    value: -1.0453446682409397,
+                    exact: "-1.04534466824093969756536524763 (30 significant digits)",
+                    is_exact: false,
+                },
+                p: Derived {
+                    value: 1.0927454754197603,
+                    exact: "1.09274547541976028037702622403 (30 significant digits)",
+                    is_exact: false,
+                },
+                q: Derived {
+                    value: -0.13484278329130628,
+                    exact: "-0.134842783291306273784240122619 (30 significant digits)",
+                    is_exact: false,
+                },
+            },
+            C0Model {
+                name: "field",
+                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                a: Derived {
+                    value: -0.00170104585524044,
+                    exact: "-0.00170104585524044019050272161473 (30 significant digits)",
+                    is_exact: false,
+                },
+                b: Derived {
+                    value: -0.20543688667582508,
+                    exact: "-0.205436886675825085553309153430 (30 significant digits)",
+                    is_exact: false,
+                },
+                c: Derived {
+                    value: -0.00022937375762676143,
+                    exact: "-0.000229373757626761419058655712473 (30 significant digits)",
+                    is_exact: false,
+                },
+                s: Derived {
+                    value: 60.38546404934713,
+                    exact: "60.3854640493471296204618220008 (30 significant digits)",
+                    is_exact: false,
+                },
+                p: Derived {
+                    value: 3646.4042684549945,
+                    exact: "3646.40426845499464083460123339 (30 significant digits)",
+                    is_exact: false,
+                },
+                q: Derived {
+                    value: -0.13484278329130628,
+                    exact: "-0.134842783291306273784240122619 (30 significant digits)",
+                    is_exact: false,
+                },
+            },
+            C0Model {
+                name: "pair-av",
+                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                a: Derived {
+                    value: -0.0003133422086599984,
+                    exact: "-0.000313342208659998379326743598192 (30 significant digits)",
+                    is_exact: false,
+                },
+                b: Derived {
+                    value: 0.003556358430417887,
+                    exact: "0.00355635843041788697004274802454 (30 significant digits)",
+                    is_exact: false,
+                },
+                c: Derived {
+                    value: -0.00022937375762676143,
+                    exact: "-0.000229373757626761419058655712473 (30 significant digits)",
+                    is_exact: false,
+                },
+                s: Derived {
+                    value: -5.674879304685095,
+                    exact: "-5.67487930468509477361675409175 (30 significant digits)",
+                    is_exact: false,
+                },
+                p: Derived {
+                    value: 32.204255122743184,
+                    exact: "32.2042551227431847206219208947 (30 significant digits)",
+                    is_exact: false,
+                },
+                q: Derived {
+                    value: -0.7320231723892981,
+                    exact: "-0.732023172389298130088167069917 (30 significant digits)",
+                    is_exact: false,
+                },
+            },
+            C0Model {
+                name: "pair",
+                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                a: Derived {
+                    value: -0.0003133422086599984,
+                    exact: "-0.000313342208659998379326743598192 (30 significant digits)",
+                    is_exact: false,
+                },
+                b: Derived {
+                    value: -0.20543688667582508,
+                    exact: "-0.205436886675825085553309153430 (30 significant digits)",
+                    is_exact: false,
+                },
+                c: Derived {
+                    value: -0.00022937375762676143,
+                    exact: "-0.000229373757626761419058655712473 (30 significant digits)",
+                    is_exact: false,
+                },
+                s: Derived {
+                    value: 327.8155336211674,
+                    exact: "327.815533621167378346145055313 (30 significant digits)",
+                    is_exact: false,
+                },
+                p: Derived {
+                    value: 107463.02408333072,
+                    exact: "107463.024083330719815357311527 (30 significant digits)",
+                    is_exact: false,
+                },
+                q: Derived {
+                    value: -0.7320231723892981,
+                    exact: "-0.732023172389298130088167069917 (30 significant digits)",
+                    is_exact: false,
+                },
+            },
+        ],
+        no_c0: &[],
+        stencil_t0: &[
+            StencilPoint {
+                x: -1.0,
+                k: -3i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -3i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -3i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: -2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: -2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -3.0,
+                k: -1i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: -1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: -1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 3.0,
+                k: -1i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: -3.0,
+                k: 0i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 3.0,
+                k: 0i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: -3.0,
+                k: 1i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 1i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 1i32,
+                r2: 2.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 1i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 3.0,
+                k: 1i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 3i32,
+                r2: 10.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 3i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 3i32,
+                r2: 10.0,
+            },
+        ],
+        stencil_half: &[
+            StencilPoint {
+                x: -1.5,
+                k: -3i32,
+                r2: 11.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -3i32,
+                r2: 9.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -3i32,
+                r2: 9.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -3i32,
+                r2: 11.25,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: -2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: -2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: -2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: -2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -2.5,
+                k: -1i32,
+                r2: 7.25,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: -1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: -1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: 2.5,
+                k: -1i32,
+                r2: 7.25,
+            },
+            StencilPoint {
+                x: -3.0,
+                k: 0i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 0i32,
+                r2: 0.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 0i32,
+                r2: 1.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 0i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 3.0,
+                k: 0i32,
+                r2: 9.0,
+            },
+            StencilPoint {
+                x: -2.5,
+                k: 1i32,
+                r2: 7.25,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 1i32,
+                r2: 1.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 1i32,
+                r2: 3.25,
+            },
+            StencilPoint {
+                x: 2.5,
+                k: 1i32,
+                r2: 7.25,
+            },
+            StencilPoint {
+                x: -2.0,
+                k: 2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 0.0,
+                k: 2i32,
+                r2: 4.0,
+            },
+            StencilPoint {
+                x: 1.0,
+                k: 2i32,
+                r2: 5.0,
+            },
+            StencilPoint {
+                x: 2.0,
+                k: 2i32,
+                r2: 8.0,
+            },
+            StencilPoint {
+                x: -1.5,
+                k: 3i32,
+                r2: 11.25,
+            },
+            StencilPoint {
+                x: -0.5,
+                k: 3i32,
+                r2: 9.25,
+            },
+            StencilPoint {
+                x: 0.5,
+                k: 3i32,
+                r2: 9.25,
+            },
+            StencilPoint {
+                x: 1.5,
+                k: 3i32,
+                r2: 11.25,
+            },
+        ],
+        eps_lattice: EPS_SQUARE_17_10,
+        eps_at: eps_at_square_17_10,
+    },
+];
+/// Everything the derivation found; see `shearsph-codegen show`. The
+/// top-level fields are the paper's discretisation (triangular, h = d).
 pub const INFO: KernelInfo = KernelInfo {
     name: "monaghan",
     title: "Monaghan cubic spline (R = 2)",
     reference: "Monaghan 2005, Rep. Prog. Phys. 68:1703-1759; Reshetnikova 2024, eq. (23)",
     support: 2.0,
     support_exact: "2",
-    eps: EpsInfo {
-        t0: Derived {
-            value: -0.004120112429643053,
-            exact: "-1 - 675/(14*pi) + 415*sqrt(3)/(14*pi)",
-            is_exact: true,
-        },
-        half_period: Derived {
-            value: 0.0019840550855743043,
-            exact: "-1 - 1665/(112*pi) + 655*sqrt(3)/(28*pi) - 275*sqrt(21)/(56*pi)",
-            is_exact: true,
-        },
-        max: Derived {
-            value: 0.0019840550855743043,
-            exact: "-1 - 1665/(112*pi) + 655*sqrt(3)/(28*pi) - 275*sqrt(21)/(56*pi)",
-            is_exact: true,
-        },
-        t_max: Derived {
-            value: 0.5,
-            exact: "1/2",
-            is_exact: true,
-        },
-        min: Derived {
-            value: -0.004249125907779437,
-            exact: "-0.0042491259077794373656333554",
-            is_exact: false,
-        },
-        t_min: Derived {
-            value: 0.062295633637281085,
-            exact: "0.06229563363728",
-            is_exact: false,
-        },
-        mean: Derived {
-            value: -0.0012754686262658203,
-            exact: "-0.001275468626265820346014698850246540798479986149801",
-            is_exact: false,
-        },
-    },
+    eps: DISCRETISATIONS[0].eps,
     c0_default: "field-av",
-    c0_models: &[
-        C0Model {
-            name: "field-av",
-            description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-            a: Derived {
-                value: -0.002291400167775495,
-                exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.05675106809638476,
-                exact: "-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.0017071241110126368,
-                exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 12.383491302498909,
-                exact: "(-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)) / (-30/pi + 690*sqrt(7)/(49*pi) - 24975/(56*pi^2) + 232425*sqrt(3)/(196*pi^2) + 574425*sqrt(7)/(2744*pi^2) - 654075*sqrt(21)/(1372*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 153.3508568390661,
-                exact: "(100689570163125/(843308032*pi^4) + 15979185545625*sqrt(3)/(1686616064*pi^4) - 4886735518125*sqrt(7)/(421654016*pi^4) - 2418659240625*sqrt(21)/(105413504*pi^4)) / (784800/(343*pi^2) - 41400*sqrt(7)/(49*pi^2) + 163336500/(2401*pi^3) - 396488250*sqrt(3)/(2401*pi^3) - 8616375*sqrt(7)/(343*pi^3) + 148864500*sqrt(21)/(2401*pi^3) + 1276934473125/(134456*pi^4) - 330076468125*sqrt(3)/(134456*pi^4) - 1924704433125*sqrt(7)/(537824*pi^4) + 61964848125*sqrt(21)/(67228*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 0.7450135227448826,
-                exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "field",
-            description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-            a: Derived {
-                value: -0.002291400167775495,
-                exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.1921090716370499,
-                exact: "-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.0017071241110126368,
-                exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 41.919581384937786,
-                exact: "(-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)) / (-30/pi + 690*sqrt(7)/(49*pi) - 24975/(56*pi^2) + 232425*sqrt(3)/(196*pi^2) + 574425*sqrt(7)/(2744*pi^2) - 654075*sqrt(21)/(1372*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 1757.2513034884223,
-                exact: "(674728261875/(2458624*pi^4) - 777909740625*sqrt(3)/(4917248*pi^4) - 88967278125*sqrt(7)/(1229312*pi^4) + 25626459375*sqrt(21)/(614656*pi^4)) / (784800/(343*pi^2) - 41400*sqrt(7)/(49*pi^2) + 163336500/(2401*pi^3) - 396488250*sqrt(3)/(2401*pi^3) - 8616375*sqrt(7)/(343*pi^3) + 148864500*sqrt(21)/(2401*pi^3) + 1276934473125/(134456*pi^4) - 330076468125*sqrt(3)/(134456*pi^4) - 1924704433125*sqrt(7)/(537824*pi^4) + 61964848125*sqrt(21)/(67228*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 0.7450135227448826,
-                exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "pair-av",
-            description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-            a: Derived {
-                value: -0.001353309318153274,
-                exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.05675106809638476,
-                exact: "-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.0017071241110126368,
-                exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 20.967515458264664,
-                exact: "(-6101775/(21952*pi^2) + 216675*sqrt(3)/(21952*pi^2) + 1946925*sqrt(7)/(76832*pi^2) + 3240225*sqrt(21)/(76832*pi^2)) / (30/(7*pi) + 24975/(392*pi^2) - 9825*sqrt(3)/(98*pi^2) + 4125*sqrt(21)/(196*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 439.63670449256756,
-                exact: "(100689570163125/(843308032*pi^4) + 15979185545625*sqrt(3)/(1686616064*pi^4) - 4886735518125*sqrt(7)/(421654016*pi^4) - 2418659240625*sqrt(21)/(105413504*pi^4)) / (900/(49*pi^2) + 374625/(686*pi^3) - 294750*sqrt(3)/(343*pi^3) + 61875*sqrt(21)/(343*pi^3) + 6686533125/(153664*pi^4) - 245379375*sqrt(3)/(19208*pi^4) - 121584375*sqrt(7)/(9604*pi^4) + 103021875*sqrt(21)/(38416*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 1.2614441414932238,
-                exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2))",
-                is_exact: true,
-            },
-        },
-        C0Model {
-            name: "pair",
-            description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-            a: Derived {
-                value: -0.001353309318153274,
-                exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
-                is_exact: true,
-            },
-            b: Derived {
-                value: -0.1921090716370499,
-                exact: "-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)",
-                is_exact: true,
-            },
-            c: Derived {
-                value: 0.0017071241110126368,
-                exact: "-120/(7*pi) + 705*sqrt(3)/(56*pi) - 345*sqrt(7)/(196*pi)",
-                is_exact: true,
-            },
-            s: Derived {
-                value: 70.9775175047202,
-                exact: "(-1100025/(3136*pi^2) + 607125*sqrt(3)/(3136*pi^2) + 12375*sqrt(7)/(224*pi^2) - 45375*sqrt(21)/(1568*pi^2)) / (30/(7*pi) + 24975/(392*pi^2) - 9825*sqrt(3)/(98*pi^2) + 4125*sqrt(21)/(196*pi^2))",
-                is_exact: true,
-            },
-            p: Derived {
-                value: 5037.807991132862,
-                exact: "(674728261875/(2458624*pi^4) - 777909740625*sqrt(3)/(4917248*pi^4) - 88967278125*sqrt(7)/(1229312*pi^4) + 25626459375*sqrt(21)/(614656*pi^4)) / (900/(49*pi^2) + 374625/(686*pi^3) - 294750*sqrt(3)/(343*pi^3) + 61875*sqrt(21)/(343*pi^3) + 6686533125/(153664*pi^4) - 245379375*sqrt(3)/(19208*pi^4) - 121584375*sqrt(7)/(9604*pi^4) + 103021875*sqrt(21)/(38416*pi^4))",
-                is_exact: true,
-            },
-            q: Derived {
-                value: 1.2614441414932238,
-                exact: "(120/(7*pi) - 705*sqrt(3)/(56*pi) + 345*sqrt(7)/(196*pi)) / (15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2))",
-                is_exact: true,
-            },
-        },
-    ],
+    c0_models: DISCRETISATIONS[0].c0_models,
     printed_c0: Some(PrintedC0 {
         eps0: 0.00198,
         factor: 10.0,
@@ -364,195 +2461,14 @@ pub const INFO: KernelInfo = KernelInfo {
         p: 6.0,
         q: 5.0,
     }),
-    stencil_t0: &[
-        StencilPoint {
-            x: -1.0,
-            k: -2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: -2i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: -2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.5,
-            k: -1i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: -0.5,
-            k: -1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.5,
-            k: -1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 1.5,
-            k: -1i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: -2.0,
-            k: 0i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 0i32,
-            r2: 0.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 2.0,
-            k: 0i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.5,
-            k: 1i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: -0.5,
-            k: 1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.5,
-            k: 1i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 1.5,
-            k: 1i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 2i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 2i32,
-            r2: 4.0,
-        },
-    ],
-    stencil_half: &[
-        StencilPoint {
-            x: -1.0,
-            k: -2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: -2i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: -2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: -1i32,
-            r2: 1.75,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: -1i32,
-            r2: 0.75,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: -1i32,
-            r2: 1.75,
-        },
-        StencilPoint {
-            x: -2.0,
-            k: 0i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 0i32,
-            r2: 0.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 0i32,
-            r2: 1.0,
-        },
-        StencilPoint {
-            x: 2.0,
-            k: 0i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 1i32,
-            r2: 1.75,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 1i32,
-            r2: 0.75,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 1i32,
-            r2: 1.75,
-        },
-        StencilPoint {
-            x: -1.0,
-            k: 2i32,
-            r2: 4.0,
-        },
-        StencilPoint {
-            x: 0.0,
-            k: 2i32,
-            r2: 3.0,
-        },
-        StencilPoint {
-            x: 1.0,
-            k: 2i32,
-            r2: 4.0,
-        },
-    ],
-    eps_at,
+    stencil_t0: DISCRETISATIONS[0].stencil_t0,
+    stencil_half: DISCRETISATIONS[0].stencil_half,
+    eps_at: eps_at_triangular_1,
     printed_eps: Some(PrintedEps {
         t0: "-0.004120",
         half_period: "0.001984",
         mean: "-0.001275",
     }),
+    discretisations: &DISCRETISATIONS,
     flops_per_pair: 22u32,
 };

@@ -17,10 +17,20 @@ pub mod morris {
     include!("morris.rs");
 }
 pub use morris::Morris;
+/// Wendland C2 (R = 2)
+pub mod wendland_c2 {
+    include!("wendland_c2.rs");
+}
+pub use wendland_c2::WendlandC2;
 /// Every kernel, in file-name order.
-pub const KERNELS: &[&KernelInfo] = &[&composite::INFO, &monaghan::INFO, &morris::INFO];
+pub const KERNELS: &[&KernelInfo] = &[
+    &composite::INFO,
+    &monaghan::INFO,
+    &morris::INFO,
+    &wendland_c2::INFO,
+];
 /// Every kernel's name, in file-name order.
-pub const NAMES: &[&str] = &["composite", "monaghan", "morris"];
+pub const NAMES: &[&str] = &["composite", "monaghan", "morris", "wendland_c2"];
 /// The kernel called `name`.
 pub fn kernel_info(name: &str) -> Option<&'static KernelInfo> {
     KERNELS.iter().copied().find(|k| k.name == name)
@@ -31,6 +41,7 @@ pub fn with_kernel<V: KernelVisitor>(name: &str, visitor: V) -> Option<V::Output
         "composite" => Some(visitor.visit::<Composite>()),
         "monaghan" => Some(visitor.visit::<Monaghan>()),
         "morris" => Some(visitor.visit::<Morris>()),
+        "wendland_c2" => Some(visitor.visit::<WendlandC2>()),
         _ => None,
     }
 }

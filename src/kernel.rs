@@ -69,8 +69,8 @@ pub struct EpsInfo {
     pub mean: Derived,
 }
 
-/// One neighbour in a lattice stencil: offset (x, y) in units of d, layer
-/// offset k, and q^2 = (x^2 + y^2)/(h/d)^2 for h = d.
+/// One neighbour in a lattice stencil: x offset in units of d, layer
+/// offset k, and r^2 = x^2 + (k dy)^2 in d^2 (q^2 = r^2 / (h/d)^2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StencilPoint {
     pub x: f64,
@@ -159,6 +159,10 @@ pub struct KernelInfo {
     /// The paper's printed Table 1 row, as printed (strings keep the printed
     /// precision), when the kernel is one of the paper's.
     pub printed_eps: Option<PrintedEps>,
+    /// Every discretisation the generator derived this kernel for (lattice
+    /// kind, h/d; `kernels/discretisations.toml`), the paper's (triangular,
+    /// h = d) first. The fields above are the paper's entry.
+    pub discretisations: &'static [DiscretisationInfo],
     /// Floating-point operations per pair evaluation of (w, dw_over_q)
     /// together as the solver's pair loops run it (`Kernel::w_dw_over_q_lanes`:
     /// square root and division counted as one each, the piece tests
@@ -167,6 +171,19 @@ pub struct KernelInfo {
 }
 
 impl KernelInfo {
+    /// The derivation for a lattice and h/d, if it was generated (h/d
+    /// matched to a relative 1e-12: `1.3` finds `13/10`). When it is
+    /// missing, add a line to `kernels/discretisations.toml` and run
+    /// `cargo run -p shearsph-codegen -- generate`.
+    pub fn discretisation(
+        &self,
+        lattice: Lattice,
+        h_over_d: f64,
+    ) -> Option<&'static DiscretisationInfo> {
+        self.discretisations.iter().find(|d| {
+            d.lattice == lattice && (d.h_over_d - h_over_d).abs() <= 1e-12 * h_over_d.abs()
+        })
+    }
     pub fn c0_model(&self, name: &str) -> Option<&'static C0Model> {
         self.c0_models.iter().find(|m| m.name == name)
     }
@@ -175,6 +192,140 @@ impl KernelInfo {
             .iter()
             .find(|m| m.name == self.c0_default)
             .expect("generated default c0 model is among the models")
+    }
+}
+
+/// The kind of lattice a discretisation starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Lattice {
+    /// The paper's: layers dy = (sqrt 3 / 2) d apart, odd layers offset by d/2.
+    Triangular,
+    /// dy = d, no offset (PySPH, DualSPHysics, SPHinXsys).
+    Square,
+}
+
+impl Lattice {
+    pub fn name(self) -> &'static str {
+        match self {
+            Lattice::Triangular => "triangular",
+            Lattice::Square => "square",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "triangular" => Some(Lattice::Triangular),
+            "square" => Some(Lattice::Square),
+            _ => None,
+        }
+    }
+}
+
+/// Where the c0 models of a discretisation were derived: the configuration
+/// where the search found the maximum compaction.
+#[derive(Debug, Clone, Copy)]
+pub struct C0Configuration {
+    /// t / T of the configuration (exact when symmetric).
+    pub t: Derived,
+    /// eps0 = eps there.
+    pub eps0: Derived,
+    /// `true` at a symmetric configuration (t = 0 or 0.5 T: exact
+    /// coefficients); `false` elsewhere (coefficients to stated high precision).
+    pub symmetric: bool,
+    /// For the reader.
+    pub label: &'static str,
+}
+
+/// A c0 model that has no c0 on a discretisation, and the fact why.
+#[derive(Debug, Clone, Copy)]
+pub struct NoC0 {
+    pub model: &'static str,
+    /// e.g. "no c0: the gradient W' vanishes at every neighbour in reach ...".
+    pub fact: &'static str,
+}
+
+/// One lattice row of the eps(t, n) sum: layer offset k, its phase at t = 0
+/// (fraction of d) and y^2 = (k dy)^2 in d^2.
+#[derive(Debug, Clone, Copy)]
+pub struct EpsRow {
+    pub k: i32,
+    pub phase0: f64,
+    pub y2: f64,
+}
+
+/// What [`eps_at`] needs of a discretisation.
+#[derive(Debug, Clone, Copy)]
+pub struct EpsLattice {
+    /// The rows in reach, by k.
+    pub rows: &'static [EpsRow],
+    /// Particles a = -reach..=reach of each row are summed (in d).
+    pub reach: i32,
+    /// (d/h)^2: q^2 = r^2 (d/h)^2.
+    pub inv_h2: f64,
+    /// The particle area m/rho0 in h^2: dy d / h^2.
+    pub area: f64,
+}
+
+/// eps(t, n) = rho/rho0 - 1 for a particle of layer n under the ideal
+/// shear (7), t as a fraction of T = d N^2 / U; `walls = Some(N)` for fixed
+/// walls at |j| >= N, `None` for an interior particle. Layer j = n + k moves
+/// by (n^2 - j^2) t d relative to the particle, a wall layer by (n^2 - N^2) t d.
+#[inline]
+pub fn eps_at<K: Kernel>(lat: &EpsLattice, t: f64, n: u32, walls: Option<u32>) -> f64 {
+    let n = n as f64;
+    let walls = walls.map(|nl| nl as f64);
+    let row = |phase: f64, y2: f64| -> f64 {
+        let phase = phase - phase.floor();
+        let mut sum = 0.0;
+        for a in -lat.reach..=lat.reach {
+            let x = a as f64 + phase;
+            sum += K::w((x * x + y2) * lat.inv_h2);
+        }
+        sum
+    };
+    let mut sum = 0.0;
+    for r in lat.rows {
+        if r.k == 0 {
+            // the own layer never moves relative to the particle
+            sum += row(r.phase0, r.y2);
+            continue;
+        }
+        let j = n + r.k as f64;
+        let speed = match walls {
+            Some(nl) if j.abs() >= nl => n * n - nl * nl,
+            _ => n * n - j * j,
+        };
+        sum += row(r.phase0 + speed * t, r.y2);
+    }
+    lat.area * sum - 1.0
+}
+
+/// Everything the generator derived for a kernel on one discretisation.
+#[derive(Debug, Clone, Copy)]
+pub struct DiscretisationInfo {
+    pub lattice: Lattice,
+    /// h/d, and its exact form ("13/10").
+    pub h_over_d: f64,
+    pub h_over_d_exact: &'static str,
+    /// Layer spacing dy in d (sqrt(3)/2 or 1).
+    pub dy: f64,
+    /// Compaction of a centre particle (n = 0) on this discretisation.
+    pub eps: EpsInfo,
+    /// Where the c0 models were derived.
+    pub c0_configuration: C0Configuration,
+    /// The models that have a c0 here (a != 0); the others are in `no_c0`.
+    pub c0_models: &'static [C0Model],
+    pub no_c0: &'static [NoC0],
+    /// Neighbours (self included) at t = 0 and t = 0.5 T, in d.
+    pub stencil_t0: &'static [StencilPoint],
+    pub stencil_half: &'static [StencilPoint],
+    /// The rows of eps(t, n); `eps_at` evaluates them.
+    pub eps_lattice: EpsLattice,
+    pub eps_at: fn(t: f64, n: u32, walls: Option<u32>) -> f64,
+}
+
+impl DiscretisationInfo {
+    pub fn c0_model(&self, name: &str) -> Option<&'static C0Model> {
+        self.c0_models.iter().find(|m| m.name == name)
     }
 }
 

@@ -3,9 +3,10 @@
 //! included; eps(t, n) against the high-precision curve; the registry lists
 //! every kernels/*.toml.
 
-use shearsph::kernel::{Kernel, KernelVisitor};
+use shearsph::kernel::{Kernel, KernelVisitor, Lattice};
 use shearsph::kernels::{kernel_info, with_kernel, KERNELS, NAMES};
 use shearsph_codegen::compaction::{EpsCurve, FloatRadial, Site};
+use shearsph_codegen::discretisation;
 use shearsph_codegen::kernel::{load_dir, KernelDef};
 use shearsph_codegen::rug::{Float, Rational};
 use std::path::Path;
@@ -28,6 +29,10 @@ impl KernelVisitor for Functions {
             ("dw_over_q (lanes)", |q2| K::w_dw_over_q_lanes(q2).1),
         ]
     }
+}
+
+fn kernels_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("kernels")
 }
 
 fn defs() -> Vec<KernelDef> {
@@ -98,30 +103,103 @@ fn emitted_functions_match_the_exact_kernel() {
 
 #[test]
 fn emitted_eps_curve_matches_the_high_precision_one() {
+    let discs = discretisation::load(&kernels_dir()).unwrap();
     for def in defs() {
         let info = kernel_info(&def.name).unwrap();
+        assert_eq!(info.discretisations.len(), discs.len(), "{}", def.name);
         let fr = FloatRadial::new(&def.w, 128);
-        // interior particles, and particles near walls at N = 6
-        for (n, walls) in [(0, None), (1, None), (3, None), (2, Some(6)), (5, Some(6))] {
-            let site = Site {
-                n: n as i64,
-                n_layers: walls.map(|w: u32| w as i64),
-            };
-            let curve = EpsCurve::new(&fr, &def.support, site);
-            for j in 0..=200 {
-                let t = j as f64 / 200.0;
-                let want = curve.eval(&Float::with_val(128, t)).to_f64();
-                let got = (info.eps_at)(t, n, walls);
-                assert!(
-                    (got - want).abs() < 1e-13,
-                    "{} eps({t}, {n}, {walls:?}) = {got}, want {want}",
-                    def.name
-                );
+        for (disc, di) in discs.iter().zip(info.discretisations) {
+            assert_eq!(di.lattice.name(), disc.lattice.name());
+            assert_eq!(di.h_over_d_exact, disc.h.to_string());
+            // interior particles, and particles near walls at N = 8
+            for (n, walls) in [(0, None), (1, None), (3, None), (2, Some(8)), (7, Some(8))] {
+                let site = Site {
+                    n: n as i64,
+                    n_layers: walls.map(|w: u32| w as i64),
+                };
+                let curve = EpsCurve::new(&fr, &def.support, disc, site);
+                for j in 0..=200 {
+                    let t = j as f64 / 200.0;
+                    let want = curve.eval(&Float::with_val(128, t)).to_f64();
+                    let got = (di.eps_at)(t, n, walls);
+                    assert!(
+                        (got - want).abs() < 1e-13,
+                        "{} on {}: eps({t}, {n}, {walls:?}) = {got}, want {want}",
+                        def.name,
+                        disc.label()
+                    );
+                }
             }
+            // the emitted constants are the derivation's
+            let e = &di.eps;
+            assert!(((di.eps_at)(0.0, 0, None) - e.t0.value).abs() < 1e-15);
+            assert!(((di.eps_at)(0.5, 0, None) - e.half_period.value).abs() < 1e-15);
+            assert!(((di.eps_at)(e.t_max.value, 0, None) - e.max.value).abs() < 1e-15);
+            assert!((di.c0_configuration.eps0.value - e.max.value).abs() == 0.0);
         }
-        // the emitted constants are the derivation's
-        assert!(((info.eps_at)(0.0, 0, None) - info.eps.t0.value).abs() < 1e-15);
-        assert!(((info.eps_at)(0.5, 0, None) - info.eps.half_period.value).abs() < 1e-15);
+        // the top-level fields are the paper's discretisation
+        assert_eq!(info.discretisations[0].lattice, Lattice::Triangular);
+        assert_eq!(info.discretisations[0].h_over_d, 1.0);
+        assert_eq!(info.eps.t0.value, info.discretisations[0].eps.t0.value);
+        assert!(std::ptr::eq(
+            info.discretisation(Lattice::Triangular, 1.0).unwrap(),
+            &info.discretisations[0]
+        ));
+    }
+}
+
+/// c0/U by every model on every kernel x discretisation at N = 10, alpha =
+/// 0.1, Re = 1 and 30 (A = p d N^4/U^2 with p = 2 U^2/(Re B), B = N dy), from
+/// the emitted coefficients; printed for the record with `--nocapture`.
+/// Checked: the emitted root formula is the one written here, and a root is
+/// finite exactly when it exists.
+#[test]
+fn derived_c0_on_every_discretisation() {
+    let (n, alpha) = (10.0f64, 0.1f64);
+    for info in KERNELS {
+        for di in info.discretisations {
+            let cc = &di.c0_configuration;
+            print!(
+                "{:<12} {:<10} h/d={:<6} eps0={:+.6e} at t={:.6} T{}",
+                info.name,
+                di.lattice.name(),
+                di.h_over_d_exact,
+                cc.eps0.value,
+                cc.t.value,
+                if cc.symmetric {
+                    " (exact)"
+                } else {
+                    " (searched)"
+                }
+            );
+            for re in [1.0, 30.0] {
+                let b = n * di.dy;
+                let p = 2.0 / (re * b);
+                let a_big = p * n.powi(4);
+                for m in di.c0_models {
+                    let c0 = m.c0(1.0, n, p, 1.0, alpha);
+                    let by_hand = ((m.p.value * alpha * alpha + m.q.value * a_big).sqrt()
+                        - m.s.value * alpha)
+                        / (n * n);
+                    assert!(
+                        (c0 - by_hand).abs() <= 1e-14 * by_hand.abs()
+                            || (c0.is_nan() && by_hand.is_nan()),
+                        "{c0} {by_hand}"
+                    );
+                    if m.name == info.c0_default {
+                        if c0 > 0.0 {
+                            print!("  Re={re}: c0/U={c0:.6}");
+                        } else {
+                            print!("  Re={re}: no positive root");
+                        }
+                    }
+                }
+            }
+            for nc in di.no_c0 {
+                print!("  [{}: {}]", nc.model, nc.fact);
+            }
+            println!();
+        }
     }
 }
 

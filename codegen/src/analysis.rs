@@ -1,12 +1,15 @@
-//! Everything derived for one kernel: validation facts, the compaction
-//! analysis, the paper's claims checked, the c0 models, and the comparison
-//! with the paper's printed tables.
+//! Everything derived for one kernel: validation facts, then for every
+//! discretisation (lattice kind, h/d) the compaction analysis, the paper's
+//! claims checked, the c0 models at the configuration where the search found
+//! the maximum; and the comparison with the paper's printed tables (for the
+//! paper's discretisation).
 
-use crate::c0::{self, Derivation, Sums, Term, MODELS};
-use crate::compaction::{self, cell_area, EpsCurve, FloatRadial, Known, Site};
+use crate::c0::{self, FloatSums, ModelC0, Sums, Term};
+use crate::claims;
+use crate::compaction::{self, cell_area, EpsCurve, Extreme, FloatRadial, Known, Site};
 use crate::exact::{bits_for_digits, decimal, Exact};
 use crate::kernel::{gradient_moment, normalisation, KernelDef};
-use crate::lattice::{max_layer_offset, Config};
+use crate::lattice::{Config, Discretisation};
 use crate::poly::parse_decimal;
 use rug::{Float, Rational};
 
@@ -43,23 +46,69 @@ pub struct Compared {
     pub difference: String,
 }
 
+/// Where the c0 models were derived: the configuration of maximum
+/// compaction the search found.
+#[derive(Clone, Debug)]
+pub struct C0Configuration {
+    /// `Some` when the maximum is at a symmetric configuration (exact
+    /// derivation), `None` when it is elsewhere (high precision at `tau`).
+    pub symmetric: Option<Config>,
+    /// t / T of the configuration.
+    pub tau: Known,
+    /// eps0 = eps at that configuration.
+    pub eps0: Known,
+    /// Neighbours (self excluded) in reach there.
+    pub neighbours: usize,
+    /// For the reader: "t = 0.5 T (exact)" or "t = 0.0912... T (search, 133 bits)".
+    pub label: String,
+}
+
+/// The analysis of one kernel on one discretisation.
+#[derive(Clone, Debug)]
+pub struct DiscAnalysis {
+    pub disc: Discretisation,
+    /// Lattice facts: normalisation of W and of the gradient on this lattice.
+    pub facts: Vec<Fact>,
+    pub eps: EpsSummary,
+    pub claims: Vec<Fact>,
+    pub terms_t0: Vec<Term>,
+    pub terms_half: Vec<Term>,
+    pub sums_t0: Sums,
+    pub sums_half: Sums,
+    pub c0_config: C0Configuration,
+    pub models: Vec<ModelC0>,
+}
+
 #[derive(Clone, Debug)]
 pub struct Analysis {
     pub def: KernelDef,
     pub digits: usize,
     pub prec: u32,
     pub facts: Vec<Fact>,
-    pub eps: EpsSummary,
     /// The layer count used for the claims about n and the wall.
     pub check_layers: i64,
-    pub claims: Vec<Fact>,
-    pub terms_t0: Vec<Term>,
-    pub terms_half: Vec<Term>,
-    pub sums_t0: Sums,
-    pub sums_half: Sums,
-    pub models: Vec<Derivation>,
+    /// One per discretisation; the first is the paper's (triangular, h = d).
+    pub discs: Vec<DiscAnalysis>,
     pub table1: Vec<Compared>,
     pub table2: Vec<Compared>,
+}
+
+impl DiscAnalysis {
+    /// The models derived exactly (every model, when the maximum is at a
+    /// symmetric configuration and none is degenerate).
+    pub fn exact_models(&self) -> Vec<&c0::Derivation> {
+        self.models
+            .iter()
+            .filter_map(|m| m.exact.as_ref())
+            .collect()
+    }
+}
+
+impl Analysis {
+    /// The paper's discretisation (triangular lattice, h = d).
+    pub fn paper(&self) -> &DiscAnalysis {
+        &self.discs[0]
+    }
 }
 
 /// Options of an analysis.
@@ -113,23 +162,50 @@ fn compare(what: &str, printed: &str, ours: &Float, digits: usize) -> Compared {
     }
 }
 
-/// The curve's amplitude (max - min) and mean for a site, at `prec` bits.
-fn amplitude(fr: &FloatRadial, def: &KernelDef, site: Site) -> (f64, f64, f64) {
-    let curve = EpsCurve::new(fr, &def.support, site);
-    let (mx, mn) = compaction::extremes(&curve);
-    (
-        Float::with_val(mx.value.prec(), &mx.value - &mn.value).to_f64(),
-        mx.value.to_f64(),
-        mx.tau.to_f64(),
-    )
+/// Derives everything for `def` on the paper's discretisation and on each of
+/// `discs` (the paper's is added first when missing; duplicates are skipped).
+pub fn analyse(def: &KernelDef, discs: &[Discretisation], opts: Options) -> Analysis {
+    let prec = bits_for_digits(opts.digits + 10);
+    let mut all = vec![Discretisation::paper()];
+    for d in discs {
+        if !all.contains(d) {
+            all.push(d.clone());
+        }
+    }
+    // the discretisations are independent: derive them side by side
+    let discs: Vec<DiscAnalysis> = std::thread::scope(|scope| {
+        let handles: Vec<_> = all
+            .iter()
+            .map(|d| scope.spawn(move || analyse_disc(def, d, opts, prec)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .expect("a discretisation's derivation does not panic")
+            })
+            .collect()
+    });
+    let mut facts = kernel_facts(def, prec);
+    // the paper's lattice facts sit among the kernel's, as they always have
+    let paper = &discs[0];
+    facts.splice(6..6, paper.facts.iter().cloned());
+    let (table1, table2) = paper_tables(def, paper, opts.digits, prec);
+    Analysis {
+        def: def.clone(),
+        digits: opts.digits,
+        prec,
+        facts,
+        check_layers: opts.check_layers,
+        discs,
+        table1,
+        table2,
+    }
 }
 
-pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
-    let prec = bits_for_digits(opts.digits + 10);
+/// The facts about the kernel itself (continuum), in the order `show` prints.
+fn kernel_facts(def: &KernelDef, prec: u32) -> Vec<Fact> {
     let r = &def.support;
-    let area = cell_area();
-
-    // --- validation facts (the unusable cases were errors at parse time)
     let mut facts = Vec::new();
     let norm = normalisation(&def.w);
     facts.push(Fact {
@@ -165,12 +241,9 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
             "W'(R) = {dw_r}; with a closed support, neighbours at exactly q = R feel it"
         ),
     });
-    let mut joints_ok = true;
-    for pair in def.dw.pieces.windows(2) {
-        if pair[0].poly.eval_rational(&pair[0].to) != pair[1].poly.eval_rational(&pair[0].to) {
-            joints_ok = false;
-        }
-    }
+    let joints_ok = def.dw.pieces.windows(2).all(|pair| {
+        pair[0].poly.eval_rational(&pair[0].to) == pair[1].poly.eval_rational(&pair[0].to)
+    });
     facts.push(Fact {
         name: "gradient continuous at the joints".into(),
         holds: joints_ok,
@@ -186,29 +259,6 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
         ),
     });
     facts.extend(crate::kernel::shape_facts(def));
-    let terms_t0 = c0::terms(&def.w, &def.dw, r, Config::T0);
-    let terms_half = c0::terms(&def.w, &def.dw, r, Config::Half);
-    let sums_t0 = c0::sums(&terms_t0);
-    let sums_half = c0::sums(&terms_half);
-    let lattice_moment = &area * &sums_t0.g;
-    facts.push(Fact {
-        name: "gradient normalised (lattice)".into(),
-        holds: lattice_moment == Exact::int(-1),
-        detail: format!(
-            "(sqrt(3)/2) sum_j x_j^2 W'(r_j)/r_j at t = 0 = {lattice_moment} = {}",
-            decimal(&lattice_moment.to_float(prec), 15)
-        ),
-    });
-    let eps_t0 = compaction::eps_exact(&def.w, r, Config::T0);
-    let lattice_norm = &eps_t0 + &Exact::one();
-    facts.push(Fact {
-        name: "normalised on the lattice".into(),
-        holds: lattice_norm == Exact::one(),
-        detail: format!(
-            "(sqrt(3)/2) sum_j W(r_j) at t = 0 = {}",
-            decimal(&lattice_norm.to_float(prec), 15)
-        ),
-    });
     facts.push(Fact {
         name: "even in q (no square root needed)".into(),
         holds: def.w.is_even() && def.dw.pieces.iter().all(|p| p.poly.is_odd()),
@@ -216,262 +266,240 @@ pub fn analyse(def: &KernelDef, opts: Options) -> Analysis {
             "W has only even powers of q and W' only odd ones, so W and W'/q are polynomials in q^2"
                 .into(),
     });
+    facts
+}
 
-    // --- compaction for the centre particle
-    let eps_half = compaction::eps_exact(&def.w, r, Config::Half);
+/// The normalisation of W and of the gradient on one lattice (t = 0).
+fn lattice_facts(disc: &Discretisation, sums_t0: &Sums, eps_t0: &Exact, prec: u32) -> Vec<Fact> {
+    let area = cell_area(disc);
+    let lattice_moment = &area * &sums_t0.g;
+    let lattice_norm = eps_t0 + &Exact::one();
+    let area_txt = if disc.is_paper() {
+        "(sqrt(3)/2)".to_string()
+    } else {
+        format!("(dy d/h^2 = {area})")
+    };
+    vec![
+        Fact {
+            name: "gradient normalised (lattice)".into(),
+            holds: lattice_moment == Exact::int(-1),
+            detail: format!(
+                "{area_txt} sum_j x_j^2 W'(r_j)/r_j at t = 0 = {lattice_moment} = {}",
+                decimal(&lattice_moment.to_float(prec), 15)
+            ),
+        },
+        Fact {
+            name: "normalised on the lattice".into(),
+            holds: lattice_norm == Exact::one(),
+            detail: format!(
+                "{area_txt} sum_j W(r_j) at t = 0 = {}",
+                decimal(&lattice_norm.to_float(prec), 15)
+            ),
+        },
+    ]
+}
+
+/// One discretisation: stencils, eps, claims, c0 at the true maximum.
+fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32) -> DiscAnalysis {
+    let r = &def.support;
+    let terms_t0 = c0::terms(&def.w, &def.dw, r, disc, Config::T0);
+    let terms_half = c0::terms(&def.w, &def.dw, r, disc, Config::Half);
+    let sums_t0 = c0::sums(&terms_t0);
+    let sums_half = c0::sums(&terms_half);
+    let eps_t0 = compaction::eps_exact(&def.w, r, disc, Config::T0);
+    let eps_half = compaction::eps_exact(&def.w, r, disc, Config::Half);
+    let facts = lattice_facts(disc, &sums_t0, &eps_t0, prec);
     let fr = FloatRadial::new(&def.w, prec);
-    let curve = EpsCurve::new(&fr, r, Site::CENTRE);
+    let curve = EpsCurve::new(&fr, r, disc, Site::CENTRE);
     let (mx, mn) = compaction::extremes(&curve);
     let t0_known = Known::exact(eps_t0.clone(), prec, "exact lattice sum");
     let half_known = Known::exact(eps_half.clone(), prec, "exact lattice sum");
-    // The search's result is recognised as the exact configuration when it
-    // lands there (to half the working precision in tau, all of it in eps).
-    let recognise = |e: &compaction::Extreme,
-                     at: &Rational,
-                     exact: &Known|
-     -> Option<(Known, Known)> {
-        let tau_err = Float::with_val(prec, &e.tau - at).abs();
-        let val_err = Float::with_val(prec, &e.value - &exact.value).abs();
-        let tau_tol = Float::with_val(prec, Float::i_exp(1, -((prec / 3) as i32)));
-        let val_tol = Float::with_val(prec, Float::i_exp(1, -((prec * 2 / 3) as i32)));
-        (tau_err < tau_tol && val_err < val_tol).then(|| {
-            (
-                Known {
-                    how: format!("search (golden section, {prec} bits) confirmed to land on the exact configuration"),
-                    ..exact.clone()
-                },
-                Known::exact(Exact::rational(at.clone()), prec, "exact"),
-            )
-        })
+    let at_max = recognise_any(&mx, &t0_known, &half_known, prec);
+    let at_min = recognise_any(&mn, &t0_known, &half_known, prec);
+    let (max, t_max) = at_max
+        .clone()
+        .map(|(_, v, t)| (v, t))
+        .unwrap_or_else(|| searched(&mx, prec));
+    let (min, t_min) = at_min
+        .map(|(_, v, t)| (v, t))
+        .unwrap_or_else(|| searched(&mn, prec));
+    let mean = compaction::mean(&def.w, r, disc, Site::CENTRE, prec);
+    let eps = EpsSummary {
+        t0: t0_known,
+        half_period: half_known,
+        max,
+        t_max,
+        min,
+        t_min,
+        mean,
     };
-    let searched = |e: &compaction::Extreme| -> (Known, Known) {
-        let digits = (prec as f64 * std::f64::consts::LOG10_2 / 2.0).floor() as u32 - 3;
-        (
-            Known {
-                value: e.value.clone(),
-                exact: None,
-                digits: Some(digits),
-                how: format!("golden-section search at {prec} bits"),
-            },
-            Known {
-                value: e.tau.clone(),
-                exact: None,
-                digits: Some(digits / 2),
-                how: "location of the search's extreme".into(),
-            },
-        )
+    let claims = claims::claims(def, disc, &eps, opts.check_layers);
+
+    // c0 from the configuration where the search found the maximum
+    let symmetric = at_max.map(|(c, _, _)| c);
+    let (c0_config, models) = match symmetric {
+        Some(c) => {
+            let (eps0, s1, terms) = match c {
+                Config::T0 => (&eps_t0, &sums_t0, &terms_t0),
+                Config::Half => (&eps_half, &sums_half, &terms_half),
+            };
+            let neighbours = terms.iter().filter(|t| !t.nb.is_self()).count();
+            let models = c0::derive_all(Ok(eps0), &sums_t0, Ok(s1), disc, neighbours, prec);
+            let config = C0Configuration {
+                symmetric: Some(c),
+                tau: eps.t_max.clone(),
+                eps0: eps.max.clone(),
+                neighbours,
+                label: format!(
+                    "{} (exact: the maximum the search found is attained there)",
+                    c.label()
+                ),
+            };
+            (config, models)
+        }
+        None => {
+            let nbs: Vec<_> = curve
+                .neighbours(&mx.tau)
+                .into_iter()
+                .filter(|n| !n.2.is_zero())
+                .collect();
+            let frdw = FloatRadial::new(&def.dw, prec);
+            let s1 = FloatSums::at(&frdw, &nbs, disc, prec);
+            let models = c0::derive_all(Err(&mx.value), &sums_t0, Err(&s1), disc, nbs.len(), prec);
+            let config = C0Configuration {
+                symmetric: None,
+                tau: eps.t_max.clone(),
+                eps0: eps.max.clone(),
+                neighbours: nbs.len(),
+                label: format!(
+                    "t = {} T (where the search found the maximum; not a symmetric configuration: sums evaluated at {prec} bits)",
+                    decimal(&mx.tau, 20)
+                ),
+            };
+            (config, models)
+        }
     };
-    let half = Rational::from((1, 2));
-    let zero = Rational::new();
-    let (max, t_max) = recognise(&mx, &half, &half_known).unwrap_or_else(|| searched(&mx));
-    let (min, t_min) = recognise(&mn, &zero, &t0_known)
-        .or_else(|| {
-            recognise(&mn, &Rational::from(1), &t0_known)
-                .map(|(v, _)| (v, Known::exact(Exact::zero(), prec, "exact")))
-        })
-        .unwrap_or_else(|| searched(&mn));
-    let mean = compaction::mean(&def.w, r, Site::CENTRE, prec);
-
-    // --- the paper's claims, checked
-    let nl = opts.check_layers;
-    let kmax = max_layer_offset(r);
-    let rr = r.to_f64().ceil() as i64;
-    let check_prec = 128;
-    let frc = FloatRadial::new(&def.w, check_prec);
-    let mut claims = Vec::new();
-    let t_max_is_half = t_max.exact.as_ref() == Some(&Exact::rational(half.clone()));
-    claims.push(Fact {
-        name: "maximum of eps at exactly 0.5 T (n = 0)".into(),
-        holds: t_max_is_half,
-        detail: format!(
-            "search finds the maximum at t = {} T",
-            decimal(&t_max.value, 20)
-        ),
-    });
-    let (amp0, _, _) = amplitude(&frc, def, Site::CENTRE);
-    let mut amp_bad = Vec::new();
-    let mut amps = Vec::new();
-    for n in 1..=(nl - rr) {
-        let (a, _, _) = amplitude(
-            &frc,
-            def,
-            Site {
-                n,
-                n_layers: Some(nl),
-            },
-        );
-        amps.push(format!("n={n}: {:.6e}", a));
-        if ((a - amp0) / amp0).abs() > 1e-9 {
-            amp_bad.push(n);
-        }
-    }
-    claims.push(Fact {
-        name: format!("amplitude of eps independent of n (0 <= n <= N - R, N = {nl})"),
-        holds: amp_bad.is_empty(),
-        detail: format!(
-            "amplitude at n=0: {:.6e}; {}{}",
-            amp0,
-            amps.join(", "),
-            if amp_bad.is_empty() {
-                String::new()
-            } else {
-                format!("; differs (relative 1e-9) at n = {amp_bad:?}")
-            }
-        ),
-    });
-    let mut mean_bad = Vec::new();
-    let mut means = Vec::new();
-    let mean1 = compaction::mean(
-        &def.w,
-        r,
-        Site {
-            n: nl - rr,
-            n_layers: Some(nl),
-        },
-        check_prec,
-    );
-    for n in 1..=(nl - rr) {
-        let m = compaction::mean(
-            &def.w,
-            r,
-            Site {
-                n,
-                n_layers: Some(nl),
-            },
-            check_prec,
-        );
-        means.push(format!("n={n}: {}", decimal(&m.value, 8)));
-        let d = Float::with_val(check_prec, &m.value - &mean1.value)
-            .abs()
-            .to_f64();
-        if d > 1e-20 {
-            mean_bad.push(n);
-        }
-    }
-    claims.push(Fact {
-        name: format!("mean of eps the same for 0 < n <= N - R (N = {nl})"),
-        holds: mean_bad.is_empty(),
-        detail: format!(
-            "{}{}",
-            means.join(", "),
-            if mean_bad.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    "; differs at n = {mean_bad:?}: there the mirror layer -n (at rest relative to the particle) is within reach of 2 n (sqrt(3)/2) <= R"
-                )
-            }
-        ),
-    });
-    let (amp_wall, _, _) = amplitude(
-        &frc,
-        def,
-        Site {
-            n: nl - 1,
-            n_layers: Some(nl),
-        },
-    );
-    let drops = amp_wall < amp0 * (1.0 - 1e-9);
-    claims.push(Fact {
-        name: format!(
-            "amplitude drops near the wall (n = N - 1 = {}) when R > 1",
-            nl - 1
-        ),
-        holds: if kmax > 1 { drops } else { !drops },
-        detail: format!(
-            "amplitude at n = N - 1: {:.6e}, at n = 0: {:.6e} (ratio {:.4})",
-            amp_wall,
-            amp0,
-            amp_wall / amp0
-        ),
-    });
-
-    // --- c0
-    let models: Vec<Derivation> = MODELS
-        .iter()
-        .map(|m| c0::derive(*m, &eps_half, &sums_t0, &sums_half))
-        .collect();
-
-    // --- paper
-    let mut table1 = Vec::new();
-    let mut table2 = Vec::new();
-    if let Some(p) = &def.paper {
-        table1.push(compare(
-            "eps(0T)",
-            &p.table1.t0,
-            &t0_known.value,
-            opts.digits,
-        ));
-        table1.push(compare(
-            "eps(0.5T)",
-            &p.table1.half_period,
-            &half_known.value,
-            opts.digits,
-        ));
-        table1.push(compare(
-            "mean eps",
-            &p.table1.mean,
-            &mean.value,
-            opts.digits,
-        ));
-        if let Some(t2) = &p.table2 {
-            table2.push(compare("eps0", &t2.eps0, &half_known.value, opts.digits));
-            let f = parse_decimal(&t2.factor).expect("printed factor is a number");
-            let f = Float::with_val(prec, &f);
-            for d in &models {
-                let s = Float::with_val(prec, d.s.to_float(prec) / &f);
-                let pp = Float::with_val(
-                    prec,
-                    d.p.to_float(prec) / Float::with_val(prec, f.square_ref()),
-                );
-                let q = Float::with_val(
-                    prec,
-                    d.q.to_float(prec) / Float::with_val(prec, f.square_ref()),
-                );
-                table2.push(compare(
-                    &format!("S/F [{}]", d.model.name),
-                    &t2.s,
-                    &s,
-                    opts.digits,
-                ));
-                table2.push(compare(
-                    &format!("P/F^2 [{}]", d.model.name),
-                    &t2.p,
-                    &pp,
-                    opts.digits,
-                ));
-                table2.push(compare(
-                    &format!("Q/F^2 [{}]", d.model.name),
-                    &t2.q,
-                    &q,
-                    opts.digits,
-                ));
-            }
-        }
-    }
-
-    Analysis {
-        def: def.clone(),
-        digits: opts.digits,
-        prec,
+    DiscAnalysis {
+        disc: disc.clone(),
         facts,
-        eps: EpsSummary {
-            t0: t0_known,
-            half_period: half_known,
-            max,
-            t_max,
-            min,
-            t_min,
-            mean,
-        },
-        check_layers: nl,
+        eps,
         claims,
         terms_t0,
         terms_half,
         sums_t0,
         sums_half,
+        c0_config,
         models,
-        table1,
-        table2,
     }
+}
+
+/// The search's extreme recognised as one of the exact symmetric
+/// configurations when it lands there (to a third of the working precision
+/// in tau, two thirds in eps): t = 0 (or T), or t = 0.5 T; or, when the
+/// curve is flat at its extreme (the search stops anywhere on a plateau),
+/// when a symmetric configuration attains the extreme value (to two thirds
+/// of the working precision): it is then an extreme too, and exact.
+fn recognise_any(
+    e: &Extreme,
+    t0: &Known,
+    half: &Known,
+    prec: u32,
+) -> Option<(Config, Known, Known)> {
+    let tau_tol = Float::with_val(prec, Float::i_exp(1, -((prec / 3) as i32)));
+    let val_tol = Float::with_val(prec, Float::i_exp(1, -((prec * 2 / 3) as i32)));
+    let candidates = [
+        (
+            Config::Half,
+            Rational::from((1, 2)),
+            half,
+            Rational::from((1, 2)),
+        ),
+        (Config::T0, Rational::new(), t0, Rational::new()),
+        (Config::T0, Rational::from(1), t0, Rational::new()),
+    ];
+    let lands = |at: &Rational, exact: &Known| {
+        let tau_err = Float::with_val(prec, &e.tau - at).abs();
+        let val_err = Float::with_val(prec, &e.value - &exact.value).abs();
+        (tau_err < tau_tol, val_err < val_tol)
+    };
+    let landed = candidates
+        .iter()
+        .any(|(_, at, exact, _)| lands(at, exact) == (true, true));
+    candidates.into_iter().find_map(|(c, at, exact, report)| {
+        let (near, equal) = lands(&at, exact);
+        (equal && (near || !landed)).then(|| {
+            (
+                c,
+                Known {
+                    how: format!("search (golden section, {prec} bits) confirmed to land on the exact configuration"),
+                    ..exact.clone()
+                },
+                Known::exact(Exact::rational(report), prec, "exact"),
+            )
+        })
+    })
+}
+
+/// An extreme known from the search only, with its stated digits.
+fn searched(e: &Extreme, prec: u32) -> (Known, Known) {
+    let digits = (prec as f64 * std::f64::consts::LOG10_2 / 2.0).floor() as u32 - 3;
+    (
+        Known {
+            value: e.value.clone(),
+            exact: None,
+            digits: Some(digits),
+            how: format!("golden-section search at {prec} bits"),
+        },
+        Known {
+            value: e.tau.clone(),
+            exact: None,
+            digits: Some(digits / 2),
+            how: "location of the search's extreme".into(),
+        },
+    )
+}
+
+/// The paper's Tables 1 and 2 beside ours (paper's discretisation only).
+fn paper_tables(
+    def: &KernelDef,
+    paper: &DiscAnalysis,
+    digits: usize,
+    prec: u32,
+) -> (Vec<Compared>, Vec<Compared>) {
+    let mut table1 = Vec::new();
+    let mut table2 = Vec::new();
+    let Some(p) = &def.paper else {
+        return (table1, table2);
+    };
+    let e = &paper.eps;
+    table1.push(compare("eps(0T)", &p.table1.t0, &e.t0.value, digits));
+    table1.push(compare(
+        "eps(0.5T)",
+        &p.table1.half_period,
+        &e.half_period.value,
+        digits,
+    ));
+    table1.push(compare("mean eps", &p.table1.mean, &e.mean.value, digits));
+    if let Some(t2) = &p.table2 {
+        table2.push(compare(
+            "eps0",
+            &t2.eps0,
+            &paper.c0_config.eps0.value,
+            digits,
+        ));
+        let f = parse_decimal(&t2.factor).expect("printed factor is a number");
+        let f = Float::with_val(prec, &f);
+        let f2 = Float::with_val(prec, f.square_ref());
+        for m in &paper.models {
+            let Ok(d) = &m.coefs else { continue };
+            let name = m.model.name;
+            let s = Float::with_val(prec, &d.s / &f);
+            let pp = Float::with_val(prec, &d.p / &f2);
+            let q = Float::with_val(prec, &d.q / &f2);
+            table2.push(compare(&format!("S/F [{name}]"), &t2.s, &s, digits));
+            table2.push(compare(&format!("P/F^2 [{name}]"), &t2.p, &pp, digits));
+            table2.push(compare(&format!("Q/F^2 [{name}]"), &t2.q, &q, digits));
+        }
+    }
+    (table1, table2)
 }

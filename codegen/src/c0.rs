@@ -1,12 +1,20 @@
 //! The c0 derivation of section 5, for any support, as explicit lattice sums.
 //!
-//! Lengths in d, h = d. For a configuration C (neighbours j of i with x
+//! Lengths in d; the paper has h = d, and for h = k d (the paper's
+//! W(r, kd, R)) the kernel's gradient is grad W = F(r) r_vec with
+//! F(r) = W'(r/h)/(h^3 r). For a configuration C (neighbours j of i with x
 //! offset x_j and layer offset k_j) the sums are, with W' the kernel's
 //! gradient function (given or dW/dq):
 //!
-//! - G(C)  = sum_j x_j^2 W'(r_j)/r_j                      (pressure, (25)-(28))
-//! - V(C)  = sum_{k_j>0} k_j^2 W'(r_j)/r_j                 (viscous, (29)-(30))
-//! - Av(C) = sum_{k_j>0, x_j>0} 2 k_j^2 x_j^2 W'(r_j)/r_j^3 (artificial viscosity, (31)-(32))
+//! - G(C)  = sum_j x_j^2 F(r_j)                        (pressure, (25)-(28))
+//! - V(C)  = sum_{k_j>0} k_j^2 F(r_j)                  (viscous, (29)-(30))
+//! - Av(C) = sum_{k_j>0, x_j>0} 2 k_j^2 x_j^2 h F(r_j)/r_j^2 (artificial viscosity, (31)-(32):
+//!   mu_ij carries one h)
+//!
+//! For h = d these are the paper's x^2 W'/r, k^2 W'/r and 2 k^2 x^2 W'/r^3.
+//! The viscous sum meets the profile through y_j^2/B^2 = k_j^2/N^2 (B = N dy),
+//! so the lattice enters the balance through 2 dy^2/d^2, the factor of V: 3/2
+//! on the triangular lattice (the paper's), 2 on the square one.
 //!
 //! In the paper's own sign conventions (kept here so the result compares with
 //! (34)): a linear pressure field P_j = P_i - rho0 p x_j gives dP/dx = -m p G,
@@ -20,16 +28,17 @@
 //!
 //!   a c0^2 + b alpha (U/N^2) c0 + c p d = 0,
 //!   a = eps0 K,  b = (1 + eps0) Av(0) - chi (1 + eps0) Av(max),
-//!   c = G(max) - (3/2) V(max) + (1 + eps0) ((3/2) V(0) - G(0)),
+//!   c = G(max) - (3/2) V(max) + (1 + eps0) ((3/2) V(0) - G(0))   (3/2 = 2 dy^2),
 //!
 //! with K the compaction carrier's sum and chi = 1 when Pi acts at maximum
 //! compaction. Its root is c0 = (U/N^2)(sqrt(P alpha^2 + Q A) - S alpha) with
 //! S = b/(2a), P = S^2, Q = -c/a, A = p d N^4/U^2.
 
+use crate::compaction::FloatRadial;
 use crate::exact::{Exact, Ratio};
 use crate::kernel::Radial;
-use crate::lattice::{stencil, Config, Neighbour};
-use rug::Rational;
+use crate::lattice::{stencil, Config, Discretisation, Neighbour};
+use rug::{Float, Rational};
 
 /// Which neighbours carry the compaction term c0^2 eps0 at maximum
 /// compaction (for R = 1 all choices coincide with (27)-(28)).
@@ -106,20 +115,35 @@ pub struct Term {
     pub av: Exact,
 }
 
-/// W'(r)/r at r = sqrt(r2): W' * sqrt(r2) / r2.
-fn dw_over_r(dw: &Radial, r2: &Rational) -> Exact {
-    let d = dw.eval_q2(r2);
+/// F(r) = W'(r/h)/(h^3 r) at r = sqrt(r2) (in d): W' * sqrt(r2) / (r2 h^3).
+fn dw_over_r(dw: &Radial, r2: &Rational, disc: &Discretisation) -> Exact {
+    let h2 = disc.h2();
+    let d = dw.eval_q2(&Rational::from(r2 / &h2));
     let inv_r = Exact::sqrt_rational(r2)
         .div_monomial(&Exact::rational(r2.clone()))
         .expect("r2 > 0");
-    &d * &inv_r
+    let inv_h3 = Exact::rational(Rational::from(1) / Rational::from(&h2 * &disc.h));
+    &(&d * &inv_r) * &inv_h3
 }
 
-pub fn terms(w: &Radial, dw: &Radial, support: &Rational, config: Config) -> Vec<Term> {
-    stencil(support, config)
+/// 2 dy^2 / d^2, the factor of V in the balance (3/2 for the paper's lattice).
+pub fn viscous_factor(disc: &Discretisation) -> Exact {
+    Exact::rational(disc.lattice.dy2() * 2u32)
+}
+
+pub fn terms(
+    w: &Radial,
+    dw: &Radial,
+    support: &Rational,
+    disc: &Discretisation,
+    config: Config,
+) -> Vec<Term> {
+    let h2 = disc.h2();
+    let h = Exact::rational(disc.h.clone());
+    stencil(disc, support, config)
         .into_iter()
         .map(|nb| {
-            let wv = w.eval_q2(&nb.r2);
+            let wv = w.eval_q2(&Rational::from(&nb.r2 / &h2));
             if nb.is_self() {
                 return Term {
                     nb,
@@ -130,15 +154,15 @@ pub fn terms(w: &Radial, dw: &Radial, support: &Rational, config: Config) -> Vec
                     av: Exact::zero(),
                 };
             }
-            let dwv = dw.eval_q2(&nb.r2);
-            let f = dw_over_r(dw, &nb.r2);
+            let dwv = dw.eval_q2(&Rational::from(&nb.r2 / &h2));
+            let f = dw_over_r(dw, &nb.r2, disc);
             let x2 = Exact::rational(Rational::from(&nb.x * &nb.x));
             let k2 = Exact::int(nb.k * nb.k);
             let g = &x2 * &f;
             let v = if nb.k > 0 { &k2 * &f } else { Exact::zero() };
             let av = if nb.k > 0 && nb.x > 0 {
-                // 2 k^2 x^2 W'/r^3 = 2 k^2 x^2 (W'/r) / r^2
-                (&Exact::int(2) * &(&k2 * &g))
+                // 2 k^2 x^2 h F / r^2
+                (&(&Exact::int(2) * &h) * &(&k2 * &g))
                     .div_monomial(&Exact::rational(nb.r2.clone()))
                     .unwrap()
             } else {
@@ -174,7 +198,7 @@ pub fn sums(terms: &[Term]) -> Sums {
     s
 }
 
-/// The polynomial and its root's coefficients for one model.
+/// The polynomial and its root's coefficients for one model, exactly.
 #[derive(Clone, Debug)]
 pub struct Derivation {
     pub model: Model,
@@ -186,25 +210,221 @@ pub struct Derivation {
     pub q: Ratio,
 }
 
-pub fn derive(model: Model, eps0: &Exact, s0: &Sums, s1: &Sums) -> Derivation {
+/// The same coefficients at high precision: from the exact ones, or computed
+/// at a configuration that is not exactly representable.
+#[derive(Clone, Debug)]
+pub struct Coefs {
+    pub a: Float,
+    pub b: Float,
+    pub c: Float,
+    pub s: Float,
+    pub p: Float,
+    pub q: Float,
+}
+
+/// One model's outcome: its coefficients (exact when the maximum is at a
+/// symmetric configuration), or the fact that makes the derivation degenerate.
+#[derive(Clone, Debug)]
+pub struct ModelC0 {
+    pub model: Model,
+    pub exact: Option<Derivation>,
+    /// `Err(fact)` when a = 0: no c0.
+    pub coefs: Result<Coefs, String>,
+}
+
+/// Why a = eps0 K vanishes, as a fact for the reader.
+fn degenerate(model: Model, eps0_zero: bool, n_neighbours: usize) -> String {
+    let carrier = match model.carrier {
+        Carrier::Field => "G(max)",
+        Carrier::Pair => "2 W'(1) (the own layer's nearest pair)",
+    };
+    if eps0_zero {
+        "no c0: eps0 = 0, the lattice does not compact at its maximum".into()
+    } else if n_neighbours == 0 {
+        "no c0: the support reaches no neighbour at maximum compaction (only the particle itself), so nothing carries the compaction pressure".into()
+    } else {
+        // K sums x^2 W'/r over the carriers: it vanishes when W' does at
+        // every one of them (no cancellation: W' keeps its sign there)
+        format!("no c0: the gradient W' vanishes at every neighbour that carries the compaction at maximum compaction (for R = 1 on the paper's lattice: W'(1) = 0, the six neighbours exert no force), so {carrier} = 0 and a = eps0 K = 0")
+    }
+}
+
+/// The lattice sums at high precision.
+#[derive(Clone, Debug)]
+pub struct FloatSums {
+    pub g: Float,
+    pub v: Float,
+    pub av: Float,
+    pub pair: Float,
+}
+
+impl FloatSums {
+    pub fn from_exact(s: &Sums, prec: u32) -> Self {
+        FloatSums {
+            g: s.g.to_float(prec),
+            v: s.v.to_float(prec),
+            av: s.av.to_float(prec),
+            pair: s.pair.to_float(prec),
+        }
+    }
+
+    /// The sums over neighbours (x, k, r^2) in d, at `prec` bits.
+    pub fn at(
+        dw: &FloatRadial,
+        nbs: &[(Float, i64, Float)],
+        disc: &Discretisation,
+        prec: u32,
+    ) -> Self {
+        let h = Float::with_val(prec, &disc.h);
+        let h2 = Float::with_val(prec, h.square_ref());
+        let h3 = Float::with_val(prec, &h2 * &h);
+        let zero = || Float::with_val(prec, 0);
+        let mut s = FloatSums {
+            g: zero(),
+            v: zero(),
+            av: zero(),
+            pair: zero(),
+        };
+        for (x, k, r2) in nbs {
+            if r2.is_zero() {
+                continue;
+            }
+            let q2 = Float::with_val(prec, r2 / &h2);
+            let r = Float::with_val(prec, r2.sqrt_ref());
+            let f = dw.eval(&q2) / Float::with_val(prec, &h3 * &r);
+            let x2 = Float::with_val(prec, x.square_ref());
+            let g = Float::with_val(prec, &x2 * &f);
+            if *k > 0 {
+                s.v += Float::with_val(prec, &f * (k * k));
+                if *x > 0 {
+                    s.av += Float::with_val(prec, &g * (2 * k * k)) * &h / r2;
+                }
+            }
+            let one = Float::with_val(prec, 1);
+            let near = Float::with_val(prec, x.abs_ref()) - &one;
+            if *k == 0 && near.abs() < Float::with_val(prec, Float::i_exp(1, -(prec as i32) / 2)) {
+                s.pair += &g;
+            }
+            s.g += g;
+        }
+        s
+    }
+}
+
+impl Coefs {
+    fn from_exact(d: &Derivation, prec: u32) -> Self {
+        Coefs {
+            a: d.a.to_float(prec),
+            b: d.b.to_float(prec),
+            c: d.c.to_float(prec),
+            s: d.s.to_float(prec),
+            p: d.p.to_float(prec),
+            q: d.q.to_float(prec),
+        }
+    }
+}
+
+/// The balance at high precision (the same formulas as [`derive`]); `None`
+/// when a = 0.
+pub fn derive_float(
+    model: Model,
+    eps0: &Float,
+    s0: &FloatSums,
+    s1: &FloatSums,
+    vf: &Float,
+) -> Option<Coefs> {
+    let prec = eps0.prec();
+    let one_eps = Float::with_val(prec, eps0 + 1u32);
+    let k = match model.carrier {
+        Carrier::Field => &s1.g,
+        Carrier::Pair => &s1.pair,
+    };
+    let a = Float::with_val(prec, eps0 * k);
+    if a.is_zero() {
+        return None;
+    }
+    let av_max = if model.av_at_max {
+        s1.av.clone()
+    } else {
+        Float::with_val(prec, 0)
+    };
+    let b = Float::with_val(prec, &s0.av - &av_max) * &one_eps;
+    let c = Float::with_val(prec, &s1.g - Float::with_val(prec, vf * &s1.v))
+        + Float::with_val(prec, Float::with_val(prec, vf * &s0.v) - &s0.g) * &one_eps;
+    let s = Float::with_val(prec, &b / Float::with_val(prec, &a * 2u32));
+    let p = Float::with_val(prec, s.square_ref());
+    let q = Float::with_val(prec, -Float::with_val(prec, &c / &a));
+    Some(Coefs { a, b, c, s, p, q })
+}
+
+/// Every model at a symmetric configuration (exact), or at a searched one
+/// (high precision).
+pub fn derive_all(
+    eps0: Result<&Exact, &Float>,
+    s0: &Sums,
+    s1: Result<&Sums, &FloatSums>,
+    disc: &Discretisation,
+    n_neighbours: usize,
+    prec: u32,
+) -> Vec<ModelC0> {
+    let vf = viscous_factor(disc);
+    MODELS
+        .iter()
+        .map(|&model| {
+            let fs1 = match s1 {
+                Ok(s) => FloatSums::from_exact(s, prec),
+                Err(f) => f.clone(),
+            };
+            let eps0_f = match eps0 {
+                Ok(e) => e.to_float(prec),
+                Err(f) => f.clone(),
+            };
+            let exact = match (eps0, s1) {
+                (Ok(e), Ok(s)) => derive(model, e, s0, s, &vf),
+                _ => None,
+            };
+            let coefs = match &exact {
+                Some(d) => Ok(Coefs::from_exact(d, prec)),
+                None => derive_float(
+                    model,
+                    &eps0_f,
+                    &FloatSums::from_exact(s0, prec),
+                    &fs1,
+                    &vf.to_float(prec),
+                )
+                .ok_or_else(|| degenerate(model, eps0_f.is_zero(), n_neighbours)),
+            };
+            ModelC0 {
+                model,
+                exact,
+                coefs,
+            }
+        })
+        .collect()
+}
+
+/// The balance exactly; `None` when a = eps0 K = 0 (no c0).
+pub fn derive(model: Model, eps0: &Exact, s0: &Sums, s1: &Sums, vf: &Exact) -> Option<Derivation> {
     let one_eps = &Exact::one() + eps0;
     let k = match model.carrier {
         Carrier::Field => &s1.g,
         Carrier::Pair => &s1.pair,
     };
     let a = eps0 * k;
+    if a.is_zero() {
+        return None;
+    }
     let av_max = if model.av_at_max {
         s1.av.clone()
     } else {
         Exact::zero()
     };
     let b = &one_eps * &(&s0.av - &av_max);
-    let three_halves = Exact::rational(Rational::from((3, 2)));
-    let c = &(&s1.g - &(&three_halves * &s1.v)) + &(&one_eps * &(&(&three_halves * &s0.v) - &s0.g));
+    let c = &(&s1.g - &(vf * &s1.v)) + &(&one_eps * &(&(vf * &s0.v) - &s0.g));
     let s = Ratio::new(b.clone(), &Exact::int(2) * &a);
     let p = s.square();
     let q = Ratio::new(-&c, a.clone());
-    Derivation {
+    Some(Derivation {
         model,
         a,
         b,
@@ -212,5 +432,5 @@ pub fn derive(model: Model, eps0: &Exact, s0: &Sums, s1: &Sums) -> Derivation {
         s,
         p,
         q,
-    }
+    })
 }

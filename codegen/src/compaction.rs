@@ -1,29 +1,30 @@
 //! The compaction analysis of section 4: eps(t, n) = rho_i(t, n)/rho0 - 1 with
-//! rho_i = m sum_j W(r_ij), m = (sqrt(3)/2) d^2 rho0 (11), for a particle of
-//! layer n as the layers shear past it (see `lattice`). Exact at t = 0 and
-//! t = 0.5 T; extremes found by search (f64 scan, then golden section at high
-//! precision); the time mean from per-layer line integrals (exact for pieces
-//! even in q, Gauss-Legendre at high precision otherwise, with the digits
-//! stated).
+//! rho_i = m sum_j W(r_ij/h)/h^2, m = dy d rho0 (11), for a particle of layer
+//! n as the layers shear past it (see `lattice`), on any [`Discretisation`].
+//! Exact at t = 0 and t = 0.5 T; extremes found by search (f64 scan, then
+//! golden section at high precision); the time mean from per-layer line
+//! integrals (exact for pieces even in q, Gauss-Legendre at high precision
+//! otherwise, with the digits stated).
 
 use crate::exact::{decimal, Exact};
 use crate::kernel::Radial;
-use crate::lattice::{layer_speed, max_layer_offset, phase0, stencil, Config};
+use crate::lattice::{layer_speed, max_layer_offset, row_reach, stencil, Config, Discretisation};
 use crate::poly::Poly;
 use rug::{Float, Rational};
 
-/// sqrt(3)/2, the particle area m/rho0 in d^2.
-pub fn cell_area() -> Exact {
-    Exact::sqrt_rational(&Rational::from((3, 4)))
+/// The particle area m/rho0 in h^2: dy d / h^2 (sqrt(3)/2 for the paper's).
+pub fn cell_area(disc: &Discretisation) -> Exact {
+    &Exact::sqrt_rational(&disc.lattice.dy2()) * &Exact::rational(Rational::from(1) / disc.h2())
 }
 
-/// eps in a configuration, exactly: (sqrt(3)/2) sum_j W(r_j) - 1.
-pub fn eps_exact(w: &Radial, support: &Rational, config: Config) -> Exact {
+/// eps in a configuration, exactly: (dy d/h^2) sum_j W(r_j/h) - 1.
+pub fn eps_exact(w: &Radial, support: &Rational, disc: &Discretisation, config: Config) -> Exact {
+    let h2 = disc.h2();
     let mut sum = Exact::zero();
-    for nb in stencil(support, config) {
-        sum = &sum + &w.eval_q2(&nb.r2);
+    for nb in stencil(disc, support, config) {
+        sum = &sum + &w.eval_q2(&Rational::from(&nb.r2 / &h2));
     }
-    &(&cell_area() * &sum) - &Exact::one()
+    &(&cell_area(disc) * &sum) - &Exact::one()
 }
 
 /// W's pieces in floating point at a given precision, for fast evaluation.
@@ -110,18 +111,28 @@ impl Site {
 /// precision.
 pub struct EpsCurve<'a> {
     w: &'a FloatRadial,
-    support: Rational,
     kmax: i64,
+    reach: i64,
     site: Site,
+    /// phase0 of layer k (index k + kmax), dy^2 (d^2), (d/h)^2, area (h^2)
+    phase0: Vec<Rational>,
+    dy2: Rational,
+    inv_h2: Rational,
+    area: Exact,
 }
 
 impl<'a> EpsCurve<'a> {
-    pub fn new(w: &'a FloatRadial, support: &Rational, site: Site) -> Self {
+    pub fn new(w: &'a FloatRadial, support: &Rational, disc: &Discretisation, site: Site) -> Self {
+        let kmax = max_layer_offset(disc, support);
         EpsCurve {
             w,
-            support: support.clone(),
-            kmax: max_layer_offset(support),
+            kmax,
+            reach: row_reach(disc, support),
             site,
+            phase0: (-kmax..=kmax).map(|k| disc.lattice.phase0(k)).collect(),
+            dy2: disc.lattice.dy2(),
+            inv_h2: Rational::from(1) / disc.h2(),
+            area: cell_area(disc),
         }
     }
 
@@ -133,46 +144,57 @@ impl<'a> EpsCurve<'a> {
             .unwrap_or(0)
     }
 
-    pub fn eval_f64(&self, tau: f64) -> f64 {
-        let s2 = self.w.support2_f64;
-        let reach = self.support.to_f64().ceil() as i64 + 1;
-        let mut sum = 0.0;
+    /// The neighbours at tau (positions in d, at `prec` bits): (x, k, r^2).
+    pub fn neighbours(&self, tau: &Float) -> Vec<(Float, i64, Float)> {
+        let prec = self.w.prec;
+        let mut out = Vec::new();
+        let r2max = Float::with_val(prec, &self.w.support2 / self.inv_h2.clone());
         for k in -self.kmax..=self.kmax {
-            let speed = layer_speed(self.site.n, k, self.site.n_layers) as f64;
-            let ph = phase0(k).to_f64() + speed * tau;
-            let ph = ph - ph.floor();
-            let y2 = 0.75 * (k * k) as f64;
-            for a in -reach..=reach {
-                let x = a as f64 + ph;
-                let r2 = x * x + y2;
-                if r2 <= s2 {
-                    sum += self.w.eval_f64(r2);
+            let speed = layer_speed(self.site.n, k, self.site.n_layers);
+            let mut ph =
+                Float::with_val(prec, tau * speed) + &self.phase0[(k + self.kmax) as usize];
+            let fl = Float::with_val(prec, ph.floor_ref());
+            ph -= fl;
+            let y2 = Float::with_val(prec, Rational::from(&self.dy2 * (k * k)));
+            for a in -self.reach..=self.reach {
+                let x = Float::with_val(prec, &ph + a);
+                let r2 = Float::with_val(prec, x.square_ref()) + &y2;
+                if r2 <= r2max {
+                    out.push((x, k, r2));
                 }
             }
         }
-        0.75f64.sqrt() * sum - 1.0
+        out
+    }
+
+    pub fn eval_f64(&self, tau: f64) -> f64 {
+        let s2 = self.w.support2_f64;
+        let inv_h2 = self.inv_h2.to_f64();
+        let dy2 = self.dy2.to_f64();
+        let mut sum = 0.0;
+        for k in -self.kmax..=self.kmax {
+            let speed = layer_speed(self.site.n, k, self.site.n_layers) as f64;
+            let ph = self.phase0[(k + self.kmax) as usize].to_f64() + speed * tau;
+            let ph = ph - ph.floor();
+            let y2 = dy2 * (k * k) as f64;
+            for a in -self.reach..=self.reach {
+                let x = a as f64 + ph;
+                let q2 = (x * x + y2) * inv_h2;
+                if q2 <= s2 {
+                    sum += self.w.eval_f64(q2);
+                }
+            }
+        }
+        self.area.to_f64() * sum - 1.0
     }
 
     pub fn eval(&self, tau: &Float) -> Float {
         let prec = self.w.prec;
-        let reach = self.support.to_f64().ceil() as i64 + 1;
         let mut sum = Float::with_val(prec, 0);
-        for k in -self.kmax..=self.kmax {
-            let speed = layer_speed(self.site.n, k, self.site.n_layers);
-            let mut ph = Float::with_val(prec, tau * speed) + phase0(k);
-            let fl = Float::with_val(prec, ph.floor_ref());
-            ph -= fl;
-            let y2 = Float::with_val(prec, Rational::from((3 * k * k, 4)));
-            for a in -reach..=reach {
-                let x = Float::with_val(prec, &ph + a);
-                let r2 = Float::with_val(prec, x.square_ref()) + &y2;
-                if r2 <= self.w.support2 {
-                    sum += self.w.eval(&r2);
-                }
-            }
+        for (_, _, r2) in self.neighbours(tau) {
+            sum += self.w.eval(&Float::with_val(prec, r2 * &self.inv_h2));
         }
-        let c = Float::with_val(prec, 3).sqrt() / 2;
-        sum * c - 1
+        sum * self.area.to_float(prec) - 1
     }
 }
 
@@ -437,20 +459,29 @@ pub fn gauss_legendre(n: usize, prec: u32) -> Vec<(Float, Float)> {
 /// (nonzero integer speed) average to their line integral; layers at rest
 /// relative to the particle (its own, and for 0 < n the mirror layer -n if
 /// in reach) keep their t = 0 sum.
-pub fn mean(w: &Radial, support: &Rational, site: Site, prec: u32) -> Known {
-    let kmax = max_layer_offset(support);
+pub fn mean(w: &Radial, support: &Rational, disc: &Discretisation, site: Site, prec: u32) -> Known {
+    let kmax = max_layer_offset(disc, support);
+    let h2 = disc.h2();
+    let h = Exact::rational(disc.h.clone());
     let mut exact = Exact::zero();
     let mut quad = Float::with_val(prec, 0);
     let mut err = Float::with_val(prec, 0);
     let mut quadrature_used = false;
-    let t0 = stencil(support, Config::T0);
+    let t0 = stencil(disc, support, Config::T0);
     for k in -kmax..=kmax {
         if layer_speed(site.n, k, site.n_layers) == 0 {
             for nb in t0.iter().filter(|nb| nb.k == k) {
-                exact = &exact + &w.eval_q2(&nb.r2);
+                exact = &exact + &w.eval_q2(&Rational::from(&nb.r2 / &h2));
             }
         } else {
-            let (v, e, er) = line_integral(w, &Rational::from((3 * k * k, 4)), prec);
+            // a moving row averages to its line integral: in h units, times h/d
+            let y2 = disc.lattice.dy2() * (k * k) / &h2;
+            let (v, e, er) = line_integral(w, &y2, prec);
+            let (v, e, er) = (
+                Float::with_val(prec, v * &disc.h),
+                &e * &h,
+                Float::with_val(prec, er * &disc.h),
+            );
             let q = Float::with_val(prec, &v - e.to_float(prec));
             if !q.is_zero() || !er.is_zero() {
                 quadrature_used = true;
@@ -460,7 +491,7 @@ pub fn mean(w: &Radial, support: &Rational, site: Site, prec: u32) -> Known {
             err += er;
         }
     }
-    let c = cell_area();
+    let c = cell_area(disc);
     if !quadrature_used {
         let e = &(&c * &exact) - &Exact::one();
         return Known::exact(e, prec, "exact: line integrals of pieces even in q");

@@ -460,6 +460,11 @@ pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        // the discretisations file sits beside the kernels; it is not one
+        .filter(|p| {
+            p.file_name()
+                .is_none_or(|n| n != crate::discretisation::FILE)
+        })
         .collect();
     files.sort();
     let mut out: Vec<KernelDef> = Vec::new();

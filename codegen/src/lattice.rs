@@ -1,18 +1,118 @@
-//! The triangular lattice of section 2, with h = d (lengths in d): layer j at
-//! y = j sqrt(3)/2, odd layers offset by 1/2 along x. Fluid layers are
-//! |j| < N, walls |j| >= N (fixed, u = 0).
+//! The lattices of the analysis, as data: a [`Discretisation`] is a lattice
+//! kind and h/d. Lengths here are in d (the particle spacing along x).
 //!
-//! Under the steady shear (7), u(j) = U (1 - j^2/N^2), so over a time t = tau
-//! T (T = d N^2 / U, (19)) layer j moves by (u(j) - u(n)) t = (n^2 - j^2) tau
-//! relative to a particle of layer n (in d); a wall layer moves by
-//! (n^2 - N^2) tau. These multipliers are integers, so every neighbourhood is
-//! periodic with T, and at tau = 1/2 odd relative layers sit straight above
-//! the particle (shift by a half) while even ones return to place.
+//! - `triangular` (the paper's, section 2): layer j at y = j dy with
+//!   dy = (sqrt(3)/2) d, odd layers offset by d/2 along x.
+//! - `square` (PySPH, DualSPHysics, SPHinXsys): dy = d, no offset.
+//!
+//! Fluid layers are |j| < N, walls |j| >= N (fixed, u = 0), B = N dy.
+//!
+//! Kinematics, derived from dy and the initial offset: under the steady shear
+//! (7) layer j (at y = j dy) moves at u(j) = U (1 - (j dy)^2 / B^2) = U (1 -
+//! j^2/N^2) whatever dy is, because B = N dy. Over t = tau T (T = d N^2 / U,
+//! (19)) layer j moves by (n^2 - j^2) tau (in d) relative to a particle of
+//! layer n, a wall layer by (n^2 - N^2) tau. These multipliers are integers
+//! and every layer is periodic in x with period d, so every neighbourhood is
+//! periodic with T on both lattices. The phase of layer k = j - n at tau is
+//! phase0(k) + (n^2 - j^2) tau (mod 1), phase0 being the initial offset. The
+//! symmetric configurations are tau = 0 and tau = 1/2: n^2 - j^2 = -k (2n + k)
+//! is odd exactly when k is, so at 1/2 odd relative layers gain an offset of
+//! 1/2 and even ones return to place; every phase is 0 or 1/2 and the
+//! neighbourhood is mirror-symmetric, with r^2 = x^2 + k^2 dy^2 rational
+//! (dy^2 = 3/4 or 1). On the triangular lattice tau = 1/2 puts every layer
+//! straight above the particle; on the square lattice it staggers the odd
+//! layers (a triangular-like arrangement).
 
 use rug::Rational;
 
+/// The kind of lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum LatticeKind {
+    Triangular,
+    Square,
+}
+
+impl LatticeKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            LatticeKind::Triangular => "triangular",
+            LatticeKind::Square => "square",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "triangular" => Some(LatticeKind::Triangular),
+            "square" => Some(LatticeKind::Square),
+            _ => None,
+        }
+    }
+
+    /// dy^2 / d^2: 3/4 or 1.
+    pub fn dy2(self) -> Rational {
+        match self {
+            LatticeKind::Triangular => Rational::from((3, 4)),
+            LatticeKind::Square => Rational::from(1),
+        }
+    }
+
+    /// The x offset of layer k at t = 0 relative to the particle, modulo 1.
+    pub fn phase0(self, k: i64) -> Rational {
+        match self {
+            LatticeKind::Triangular if k.rem_euclid(2) == 1 => Rational::from((1, 2)),
+            _ => Rational::new(),
+        }
+    }
+}
+
+/// A lattice kind and h/d: what the analysis is derived for.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Discretisation {
+    pub lattice: LatticeKind,
+    /// h/d, exact and positive.
+    pub h: Rational,
+}
+
+impl Discretisation {
+    /// The paper's: triangular lattice, h = d.
+    pub fn paper() -> Self {
+        Discretisation {
+            lattice: LatticeKind::Triangular,
+            h: Rational::from(1),
+        }
+    }
+
+    pub fn is_paper(&self) -> bool {
+        *self == Self::paper()
+    }
+
+    /// `triangular, h/d = 1`.
+    pub fn label(&self) -> String {
+        format!("{}, h/d = {}", self.lattice.name(), self.h)
+    }
+
+    /// A short identifier: `triangular_1`, `square_13_10`.
+    pub fn ident(&self) -> String {
+        format!(
+            "{}_{}",
+            self.lattice.name(),
+            self.h.to_string().replace('/', "_")
+        )
+    }
+
+    /// (h/d)^2.
+    pub fn h2(&self) -> Rational {
+        Rational::from(&self.h * &self.h)
+    }
+
+    /// The support radius in d: R h/d.
+    pub fn support_d(&self, support: &Rational) -> Rational {
+        Rational::from(support * &self.h)
+    }
+}
+
 /// A neighbour at an exact position: x offset (in d), layer offset k, and
-/// r^2 = x^2 + 3 k^2 / 4.
+/// r^2 = x^2 + k^2 dy^2 (in d^2).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Neighbour {
     pub x: Rational,
@@ -26,12 +126,12 @@ impl Neighbour {
     }
 }
 
-/// The two exact configurations of the analysis.
+/// The two exact (symmetric) configurations of the analysis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Config {
     /// t = 0: the undisturbed lattice.
     T0,
-    /// t = 0.5 T: every layer has a particle straight above/below.
+    /// t = 0.5 T: odd relative layers shifted by d/2.
     Half,
 }
 
@@ -42,42 +142,69 @@ impl Config {
             Config::Half => "t = 0.5 T",
         }
     }
+
+    /// t / T.
+    pub fn tau(self) -> Rational {
+        match self {
+            Config::T0 => Rational::new(),
+            Config::Half => Rational::from((1, 2)),
+        }
+    }
+
+    /// The phase of layer k in this configuration, for the centre particle.
+    pub fn phase(self, lattice: LatticeKind, k: i64) -> Rational {
+        let p = lattice.phase0(k);
+        match self {
+            Config::T0 => p,
+            Config::Half if k.rem_euclid(2) == 1 => {
+                let s = p + Rational::from((1, 2));
+                if s >= 1 {
+                    s - 1u32
+                } else {
+                    s
+                }
+            }
+            Config::Half => p,
+        }
+    }
 }
 
-/// Largest layer offset whose layer can hold a neighbour within `support`:
-/// (sqrt(3)/2) k <= R, i.e. 3 k^2 <= 4 R^2.
-pub fn max_layer_offset(support: &Rational) -> i64 {
-    let r2x4 = Rational::from(support * support) * 4;
+/// Largest layer offset whose layer can hold a neighbour within the support
+/// R h: k^2 dy^2 <= R^2 h^2.
+pub fn max_layer_offset(disc: &Discretisation, support: &Rational) -> i64 {
+    let rd = disc.support_d(support);
+    let r2 = Rational::from(&rd * &rd);
+    let dy2 = disc.lattice.dy2();
     let mut k = 0i64;
-    while 3 * (k + 1) * (k + 1) <= r2x4 {
+    while Rational::from(&dy2 * ((k + 1) * (k + 1))) <= r2 {
         k += 1;
     }
     k
 }
 
-/// The x offset of layer k at t = 0 relative to the particle, modulo 1.
-pub fn phase0(k: i64) -> Rational {
-    if k.rem_euclid(2) == 1 {
-        Rational::from((1, 2))
-    } else {
-        Rational::new()
-    }
+/// How far along x (in d, whole spacings) a row can hold neighbours: ceil(R h/d) + 1.
+pub fn row_reach(disc: &Discretisation, support: &Rational) -> i64 {
+    disc.support_d(support)
+        .ceil()
+        .numer()
+        .to_i64()
+        .expect("support fits i64")
+        + 1
 }
 
 /// Neighbours (self included) within the closed support of an interior
 /// particle, in a fixed order: by layer offset k, then x.
-pub fn stencil(support: &Rational, config: Config) -> Vec<Neighbour> {
-    let kmax = max_layer_offset(support);
-    let r2max = Rational::from(support * support);
+pub fn stencil(disc: &Discretisation, support: &Rational, config: Config) -> Vec<Neighbour> {
+    let kmax = max_layer_offset(disc, support);
+    let rd = disc.support_d(support);
+    let r2max = Rational::from(&rd * &rd);
+    let dy2 = disc.lattice.dy2();
+    let reach = row_reach(disc, support);
     let mut out = Vec::new();
     for k in -kmax..=kmax {
-        let phase = match config {
-            Config::T0 => phase0(k),
-            Config::Half => Rational::new(),
-        };
-        let y2 = Rational::from((3 * k * k, 4));
-        // x = a + phase for integers a with x^2 + y2 <= R^2
-        let reach = support.clone().ceil().numer().to_i64().unwrap() + 1;
+        let phase = config.phase(disc.lattice, k);
+        let y2 = Rational::from(&dy2 * (k * k));
+        // x = a + phase for integers a with x^2 + y2 <= (R h)^2
         for a in -reach..=reach {
             let x = Rational::from(a) + &phase;
             let r2 = Rational::from(&x * &x) + &y2;
@@ -104,14 +231,22 @@ pub fn layer_speed(n: i64, k: i64, n_layers: Option<i64>) -> i64 {
 mod tests {
     use super::*;
 
+    fn disc(lattice: LatticeKind, h: (i64, i64)) -> Discretisation {
+        Discretisation {
+            lattice,
+            h: Rational::from(h),
+        }
+    }
+
     #[test]
     fn r1_stencils_match_figure_5() {
         let one = Rational::from(1);
-        let t0 = stencil(&one, Config::T0);
+        let p = Discretisation::paper();
+        let t0 = stencil(&p, &one, Config::T0);
         // self + 6 neighbours at distance d
         assert_eq!(t0.len(), 7);
         assert!(t0.iter().filter(|n| !n.is_self()).all(|n| n.r2 == 1));
-        let half = stencil(&one, Config::Half);
+        let half = stencil(&p, &one, Config::Half);
         // self, 2 in the own layer at x = -1, 1, and 2 straight above/below
         assert_eq!(half.len(), 5);
         assert_eq!(
@@ -123,11 +258,31 @@ mod tests {
     }
 
     #[test]
+    fn square_r1_stencils() {
+        let one = Rational::from(1);
+        let sq = disc(LatticeKind::Square, (1, 1));
+        // t = 0: self + 4 at distance d
+        let t0 = stencil(&sq, &one, Config::T0);
+        assert_eq!(t0.len(), 5);
+        // t = 0.5 T: odd layers staggered, sqrt(5)/2 > 1: only the own layer's pair
+        let half = stencil(&sq, &one, Config::Half);
+        assert_eq!(half.len(), 3);
+        assert!(half.iter().all(|n| n.k == 0));
+    }
+
+    #[test]
     fn layer_reach() {
-        assert_eq!(max_layer_offset(&Rational::from(1)), 1);
-        assert_eq!(max_layer_offset(&Rational::from(2)), 2);
-        assert_eq!(max_layer_offset(&Rational::from(3)), 3);
-        assert_eq!(max_layer_offset(&Rational::from((1, 2))), 0);
+        let p = Discretisation::paper();
+        assert_eq!(max_layer_offset(&p, &Rational::from(1)), 1);
+        assert_eq!(max_layer_offset(&p, &Rational::from(2)), 2);
+        assert_eq!(max_layer_offset(&p, &Rational::from(3)), 3);
+        assert_eq!(max_layer_offset(&p, &Rational::from((1, 2))), 0);
+        let sq = disc(LatticeKind::Square, (13, 10));
+        // 2 * 1.3 = 2.6 d
+        assert_eq!(max_layer_offset(&sq, &Rational::from(2)), 2);
+        let tri = disc(LatticeKind::Triangular, (3, 2));
+        // 2 * 1.5 = 3 d, k sqrt(3)/2 <= 3: k <= 3
+        assert_eq!(max_layer_offset(&tri, &Rational::from(2)), 3);
     }
 
     #[test]

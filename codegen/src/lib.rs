@@ -4,8 +4,8 @@
 //! Rust in `generated/`.
 //!
 //! Stages: [`kernel`] reads and validates a definition (exact polynomials,
-//! [`poly`], over exact numbers, [`exact`]); [`lattice`] enumerates the
-//! triangular lattice; [`compaction`] computes eps(t, n); [`c0`] the terms of
+//! [`poly`], over exact numbers, [`exact`]); [`discretisation`] reads the
+//! set of discretisations, [`lattice`] enumerates their lattices; [`compaction`] computes eps(t, n); [`c0`] the terms of
 //! (25)-(34); [`analysis`] gathers them; [`show`] prints them.
 
 /// Re-exported so tests of the solver crate can use the exact numbers without
@@ -14,7 +14,9 @@ pub use rug;
 
 pub mod analysis;
 pub mod c0;
+pub mod claims;
 pub mod compaction;
+pub mod discretisation;
 pub mod emit;
 pub mod exact;
 pub mod kernel;

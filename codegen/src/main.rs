@@ -1,6 +1,6 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use shearsph_codegen::{analysis, emit, kernel, show};
+use shearsph_codegen::{analysis, discretisation, emit, kernel, show};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -127,9 +127,11 @@ fn run(cli: Cli) -> Result<()> {
                     r_ceil + 1
                 );
             }
+            let discs = discretisation::load(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
             let start = Instant::now();
             let a = analysis::analyse(
                 def,
+                &discs,
                 analysis::Options {
                     digits,
                     check_layers: n_layers,
@@ -154,9 +156,10 @@ fn render_all(dir: &std::path::Path) -> Result<Vec<(PathBuf, String)>> {
     if defs.is_empty() {
         bail!("no kernel definitions (*.toml) in {}", dir.display());
     }
+    let discs = discretisation::load(dir).map_err(|e| anyhow::anyhow!("{e}"))?;
     let analyses: Vec<analysis::Analysis> = defs
         .iter()
-        .map(|d| analysis::analyse(d, analysis::Options::default()))
+        .map(|d| analysis::analyse(d, &discs, analysis::Options::default()))
         .collect();
     let files = emit::render(&analyses);
     // the same tree with every kernel renamed to a neutral stand-in: whatever

@@ -1,9 +1,10 @@
 //! `shearsph-codegen show KERNEL`: the derivation for a person, or as JSON.
 
-use crate::analysis::{Analysis, Compared, Fact};
-use crate::c0::Term;
+use crate::analysis::{Analysis, Compared, DiscAnalysis, Fact};
+use crate::c0::{ModelC0, Term};
 use crate::compaction::Known;
 use crate::exact::{decimal, Exact, Ratio};
+use crate::lattice::Config;
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 
@@ -13,6 +14,10 @@ fn dec(a: &Analysis, e: &Exact) -> String {
 
 fn dec_ratio(a: &Analysis, r: &Ratio) -> String {
     decimal(&r.to_float(a.prec), a.digits)
+}
+
+fn dec_float(a: &Analysis, x: &rug::Float) -> String {
+    decimal(x, a.digits)
 }
 
 fn known_dec(a: &Analysis, k: &Known) -> String {
@@ -36,10 +41,15 @@ fn facts_text(out: &mut String, title: &str, facts: &[Fact]) {
     }
 }
 
-fn terms_text(out: &mut String, a: &Analysis, title: &str, terms: &[Term]) {
+fn terms_text(out: &mut String, da: &DiscAnalysis, title: &str, terms: &[Term]) {
+    let h = if da.disc.is_paper() {
+        "h = d".to_string()
+    } else {
+        format!("h = {} d, F = W'(r/h)/(h^3 r)", da.disc.h)
+    };
     let _ = writeln!(
         out,
-        "\n{title} ({} particles, self included; lengths in d, h = d)",
+        "\n{title} ({} particles, self included; lengths in d, {h})",
         terms.len()
     );
     let _ = writeln!(
@@ -62,7 +72,6 @@ fn terms_text(out: &mut String, a: &Analysis, title: &str, terms: &[Term]) {
             d(&t.av)
         );
     }
-    let _ = a;
 }
 
 fn compared_text(out: &mut String, title: &str, rows: &[Compared]) {
@@ -101,7 +110,7 @@ pub fn text(a: &Analysis) -> String {
     let _ = writeln!(out, "  reference: {}", d.reference);
     let _ = writeln!(
         out,
-        "  support:   R = {} h (h = d throughout the analysis)",
+        "  support:   R = {} h (h/d and the lattice: per discretisation, below)",
         d.support
     );
     let _ = writeln!(
@@ -122,16 +131,52 @@ pub fn text(a: &Analysis) -> String {
         let _ = writeln!(out, "  ({}, {}]: {}", p.from, p.to, p.poly);
     }
     facts_text(&mut out, "Validation", &a.facts);
-    terms_text(&mut out, a, "Neighbours at t = 0", &a.terms_t0);
-    terms_text(
+    for da in &a.discs {
+        disc_text(&mut out, a, da);
+    }
+    compared_text(&mut out, "Paper, Table 1 (printed) beside ours", &a.table1);
+    compared_text(
         &mut out,
-        a,
-        "Neighbours at t = 0.5 T (maximum compaction)",
-        &a.terms_half,
+        "Paper, Table 2 (printed c0 = F U (sqrt(P alpha^2 + Q A) - S alpha)/N^2) beside ours, per model",
+        &a.table2,
     );
+    if a.table1.iter().chain(&a.table2).any(|c| !c.matches) {
+        let _ = writeln!(
+            out,
+            "\n  Where a row says NO, the printed value differs from ours at its printed precision. Ours is computed exactly\n  (or to the stated digits) from the kernel's definition; the print is kept for reference, not used."
+        );
+    }
+    out
+}
 
+/// One discretisation's part of `show`: stencils, eps, claims, sums, c0.
+fn disc_text(out: &mut String, a: &Analysis, da: &DiscAnalysis) {
+    let paper = da.disc.is_paper();
+    let _ = writeln!(
+        out,
+        "\n=== Discretisation: {}{}",
+        da.disc.label(),
+        if paper { " (the paper's)" } else { "" }
+    );
+    if !paper {
+        facts_text(out, "Validation on this lattice", &da.facts);
+    }
+    let max_label = |c: Config| {
+        if da.c0_config.symmetric == Some(c) {
+            " (maximum compaction)"
+        } else {
+            ""
+        }
+    };
+    terms_text(out, da, "Neighbours at t = 0", &da.terms_t0);
+    terms_text(
+        out,
+        da,
+        &format!("Neighbours at t = 0.5 T{}", max_label(Config::Half)),
+        &da.terms_half,
+    );
     let _ = writeln!(out, "\nCompaction eps = rho/rho0 - 1 of the centre particle (n = 0), t as a fraction of T = d N^2/U");
-    let e = &a.eps;
+    let e = &da.eps;
     for (name, k) in [
         ("eps(0)", &e.t0),
         ("eps(0.5 T)", &e.half_period),
@@ -155,19 +200,18 @@ pub fn text(a: &Analysis) -> String {
         );
     }
     facts_text(
-        &mut out,
+        out,
         &format!(
             "The paper's claims about eps, checked (N = {} layers)",
             a.check_layers
         ),
-        &a.claims,
+        &da.claims,
     );
-
     let _ = writeln!(
         out,
         "\nLattice sums (exact; see codegen/src/c0.rs for the derivation)"
     );
-    for (label, s) in [("t = 0", &a.sums_t0), ("t = 0.5 T", &a.sums_half)] {
+    for (label, s) in [("t = 0", &da.sums_t0), ("t = 0.5 T", &da.sums_half)] {
         let _ = writeln!(out, "  {label}:");
         let _ = writeln!(out, "    G  = {}  = {}", s.g, dec(a, &s.g));
         let _ = writeln!(out, "    V  = {}  = {}", s.v, dec(a, &s.v));
@@ -183,37 +227,61 @@ pub fn text(a: &Analysis) -> String {
         out,
         "\nc0 polynomial: a c0^2 + b alpha (U/N^2) c0 + c p d = 0;  root c0 = (U/N^2) (sqrt(P alpha^2 + Q A) - S alpha), A = p d N^4/U^2"
     );
-    for m in &a.models {
-        let default = if m.model.name == crate::c0::DEFAULT_MODEL {
-            " (default)"
-        } else {
-            ""
-        };
-        let _ = writeln!(
-            out,
-            "\n  model {}{}: {}",
-            m.model.name, default, m.model.description
-        );
-        for (n, v) in [("a", &m.a), ("b", &m.b), ("c", &m.c)] {
-            let _ = writeln!(out, "    {n} = {}\n        = {}", v, dec(a, v));
-        }
-        for (n, v) in [("S", &m.s), ("P", &m.p), ("Q", &m.q)] {
-            let _ = writeln!(out, "    {n} = {}\n        = {}", v, dec_ratio(a, v));
-        }
-    }
-    compared_text(&mut out, "Paper, Table 1 (printed) beside ours", &a.table1);
-    compared_text(
-        &mut out,
-        "Paper, Table 2 (printed c0 = F U (sqrt(P alpha^2 + Q A) - S alpha)/N^2) beside ours, per model",
-        &a.table2,
+    let cc = &da.c0_config;
+    let _ = writeln!(
+        out,
+        "  derived at maximum compaction: {}; eps0 = {}, {} neighbour(s) in reach ({})",
+        cc.label,
+        known_dec(a, &cc.eps0),
+        cc.neighbours,
+        da.disc.label()
     );
-    if a.table1.iter().chain(&a.table2).any(|c| !c.matches) {
-        let _ = writeln!(
-            out,
-            "\n  Where a row says NO, the printed value differs from ours at its printed precision. Ours is computed exactly\n  (or to the stated digits) from the kernel's definition; the print is kept for reference, not used."
-        );
+    for m in &da.models {
+        model_text(out, a, m);
     }
-    out
+}
+
+fn model_text(out: &mut String, a: &Analysis, m: &ModelC0) {
+    let default = if m.model.name == crate::c0::DEFAULT_MODEL {
+        " (default)"
+    } else {
+        ""
+    };
+    let _ = writeln!(
+        out,
+        "\n  model {}{}: {}",
+        m.model.name, default, m.model.description
+    );
+    match (&m.exact, &m.coefs) {
+        (_, Err(fact)) => {
+            let _ = writeln!(out, "    {fact}");
+        }
+        (Some(e), _) => {
+            for (n, v) in [("a", &e.a), ("b", &e.b), ("c", &e.c)] {
+                let _ = writeln!(out, "    {n} = {}\n        = {}", v, dec(a, v));
+            }
+            for (n, v) in [("S", &e.s), ("P", &e.p), ("Q", &e.q)] {
+                let _ = writeln!(out, "    {n} = {}\n        = {}", v, dec_ratio(a, v));
+            }
+        }
+        (None, Ok(c)) => {
+            for (n, v) in [
+                ("a", &c.a),
+                ("b", &c.b),
+                ("c", &c.c),
+                ("S", &c.s),
+                ("P", &c.p),
+                ("Q", &c.q),
+            ] {
+                let _ = writeln!(
+                    out,
+                    "    {n} = {}  (high precision, {} bits)",
+                    dec_float(a, v),
+                    a.prec
+                );
+            }
+        }
+    }
 }
 
 fn compared_json(rows: &[Compared]) -> Value {
@@ -236,29 +304,39 @@ fn facts_json(facts: &[Fact]) -> Value {
     )
 }
 
-pub fn json(a: &Analysis) -> Value {
-    let d = &a.def;
-    let e = &a.eps;
+/// One discretisation's derivation as JSON.
+fn disc_json(a: &Analysis, da: &DiscAnalysis) -> Value {
+    let e = &da.eps;
     let known = |k: &Known| json!({"value": known_dec(a, k), "exact": k.exact.as_ref().map(|x| x.to_string()), "digits": k.digits, "how": k.how});
     let mut models = Map::new();
-    for m in &a.models {
+    let mut no_c0 = Map::new();
+    for m in &da.models {
+        let c = match &m.coefs {
+            Ok(c) => c,
+            Err(fact) => {
+                no_c0.insert(m.model.name.to_string(), json!(fact));
+                continue;
+            }
+        };
+        let exact = m.exact.as_ref().map(|e| {
+            json!({"S": e.s.to_string(), "P": e.p.to_string(), "Q": e.q.to_string(),
+                   "a": e.a.to_string(), "b": e.b.to_string(), "c": e.c.to_string()})
+        });
         models.insert(
             m.model.name.to_string(),
             json!({
-                "S": dec_ratio(a, &m.s), "P": dec_ratio(a, &m.p), "Q": dec_ratio(a, &m.q),
-                "a": dec(a, &m.a), "b": dec(a, &m.b), "c": dec(a, &m.c),
-                "exact": {"S": m.s.to_string(), "P": m.p.to_string(), "Q": m.q.to_string(),
-                          "a": m.a.to_string(), "b": m.b.to_string(), "c": m.c.to_string()},
+                "S": dec_float(a, &c.s), "P": dec_float(a, &c.p), "Q": dec_float(a, &c.q),
+                "a": dec_float(a, &c.a), "b": dec_float(a, &c.b), "c": dec_float(a, &c.c),
+                "exact": exact,
                 "description": m.model.description,
             }),
         );
     }
+    let cc = &da.c0_config;
     json!({
-        "kernel": d.name,
-        "title": d.title,
-        "reference": d.reference,
-        "support": d.support.to_string(),
-        "digits": a.digits,
+        "lattice": da.disc.lattice.name(),
+        "h_over_d": da.disc.h.to_string(),
+        "label": da.disc.label(),
         "eps": {
             "t0": known_dec(a, &e.t0),
             "half_period": known_dec(a, &e.half_period),
@@ -272,10 +350,41 @@ pub fn json(a: &Analysis) -> Value {
                 "t_max": known(&e.t_max), "min": known(&e.min), "t_min": known(&e.t_min), "mean": known(&e.mean),
             },
         },
-        "c0": {"default": crate::c0::DEFAULT_MODEL, "models": models},
+        "c0": {
+            "default": crate::c0::DEFAULT_MODEL,
+            "models": models,
+            "no_c0": no_c0,
+            "configuration": {
+                "time_over_T": known_dec(a, &cc.tau),
+                "time_exact": cc.tau.exact.as_ref().map(|x| x.to_string()),
+                "symmetric": cc.symmetric.map(|c| c.label()),
+                "eps0": known_dec(a, &cc.eps0),
+                "neighbours": cc.neighbours,
+                "label": cc.label,
+                "discretisation": da.disc.label(),
+            },
+        },
+        "validation": facts_json(&da.facts),
+        "claims": facts_json(&da.claims),
+    })
+}
+
+pub fn json(a: &Analysis) -> Value {
+    let d = &a.def;
+    let paper = disc_json(a, a.paper());
+    json!({
+        "kernel": d.name,
+        "title": d.title,
+        "reference": d.reference,
+        "support": d.support.to_string(),
+        "digits": a.digits,
+        "discretisation": paper["label"],
+        "eps": paper["eps"],
+        "c0": paper["c0"],
         "validation": facts_json(&a.facts),
-        "claims": facts_json(&a.claims),
+        "claims": paper["claims"],
         "check_layers": a.check_layers,
+        "discretisations": a.discs.iter().map(|da| disc_json(a, da)).collect::<Vec<_>>(),
         "paper": {"table1": compared_json(&a.table1), "table2": compared_json(&a.table2)},
     })
 }

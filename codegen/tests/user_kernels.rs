@@ -25,15 +25,19 @@ fn unshipped_kernel_end_to_end() {
     assert_eq!(def.support.to_string(), "3/2");
     let a = analyse(
         &def,
+        &[],
         Options {
             digits: 20,
             check_layers: 6,
         },
     );
     // exact values where the mathematics is exact (even kernel: the mean too)
-    assert!(a.eps.t0.exact.is_some());
-    assert!(a.eps.half_period.exact.is_some());
-    assert!(a.eps.mean.exact.is_some(), "even pieces integrate exactly");
+    assert!(a.paper().eps.t0.exact.is_some());
+    assert!(a.paper().eps.half_period.exact.is_some());
+    assert!(
+        a.paper().eps.mean.exact.is_some(),
+        "even pieces integrate exactly"
+    );
     assert!(
         a.facts
             .iter()
@@ -42,10 +46,10 @@ fn unshipped_kernel_end_to_end() {
             .holds
     );
     // the extremes are found, and eps(0.5 T) is never above the true maximum
-    assert!(a.eps.max.value >= a.eps.half_period.value);
-    assert!(a.eps.min.value <= a.eps.t0.value);
+    assert!(a.paper().eps.max.value >= a.paper().eps.half_period.value);
+    assert!(a.paper().eps.min.value <= a.paper().eps.t0.value);
     // every model has P = S^2 and finite coefficients
-    for m in &a.models {
+    for m in a.paper().exact_models() {
         assert_eq!(m.p, m.s.square());
         assert!(m.s.to_f64().is_finite() && m.q.to_f64().is_finite());
     }
