@@ -2,6 +2,7 @@
 //! generated tree or pass without a word. Each class has its own message.
 
 use shearsph_codegen::analysis::{analyse, Options};
+use shearsph_codegen::lattice::Discretisation;
 use shearsph_codegen::kernel::{
     check_emitted_names, load_dir, parse_kernel, read_kernel_file, shape_facts, KernelError,
     RESERVED_NAMES, RUST_KEYWORDS,
@@ -291,6 +292,7 @@ fn shipped_kernels_are_nonnegative_and_smooth_at_the_origin() {
         // the facts reach the analysis (and so `show`)
         let a = analyse(
             d,
+            &[Discretisation::paper()],
             Options {
                 digits: 10,
                 check_layers: 6,
