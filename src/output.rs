@@ -33,14 +33,14 @@ pub struct Summary {
     pub nu: f64,
     pub p: f64,
     pub alpha: f64,
-    pub initial: crate::scene::Initial,
+    pub initial: crate::config::Initial,
     pub t_end: f64,
     /// Time reached (below t_end when the run failed or was interrupted).
     pub t: f64,
     pub steps: u64,
     /// The last full step's dt and the limit that bound it.
     pub dt: f64,
-    pub dt_limit: crate::solver::DtLimit,
+    pub dt_limit: crate::problem::cost::DtLimit,
     pub dt_min: f64,
     pub dt_max: f64,
     /// Steps bound by each limit.
@@ -290,7 +290,7 @@ fn chart_err<E: std::error::Error + Send + Sync + 'static>(
 /// and the analytic reference at the same times (lines).
 pub fn profile_svg(r: &RunResult) -> Result<String> {
     let flow = r.problem.flow;
-    let from_rest = r.problem.initial == crate::scene::Initial::Rest;
+    let from_rest = r.problem.initial == crate::config::Initial::Rest;
     // Up to five samples, spread over the run, always the last.
     let n = r.samples.len();
     let mut picks: Vec<usize> = (1..=5).map(|k| k * (n - 1) / 5).collect();

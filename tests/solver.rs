@@ -6,10 +6,9 @@
 //! Tolerances are twice the measured errors (the measured value is in the
 //! comment), on small scenes that finish in seconds.
 
-use shearsph::kernel::{Kernel, KernelVisitor};
-use shearsph::kernels::{self, KERNELS};
-use shearsph::scene::{Initial, Scene, WallVelocity};
-use shearsph::solver::{self, Failure, Observer, Outcome, Quiet, RunResult};
+use shearsph::config::{Initial, Scene, WallVelocity};
+use shearsph::kernels::KERNELS;
+use shearsph::solver::{Failure, Observer, Outcome, Quiet, RunResult};
 
 /// The test scene: N = 8, Re = 10, the paper's Table 2 sound speed, no
 /// artificial viscosity (its extra shear viscosity, about alpha c0 h / 8, is
@@ -30,14 +29,7 @@ fn run(scene: &Scene) -> RunResult {
 }
 
 fn run_observed(scene: &Scene, observer: &mut dyn Observer) -> RunResult {
-    struct Visit<'a>(&'a Scene, &'a mut dyn Observer);
-    impl KernelVisitor for Visit<'_> {
-        type Output = RunResult;
-        fn visit<K: Kernel>(self) -> RunResult {
-            solver::simulate::<K>(self.0, self.1).expect("valid scene")
-        }
-    }
-    kernels::with_kernel(&scene.kernel, Visit(scene, observer)).expect("known kernel")
+    shearsph::run::run_scene(scene, observer).expect("valid scene")
 }
 
 /// Largest L_inf error of the layer means over the output times.

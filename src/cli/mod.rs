@@ -15,7 +15,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 
-use crate::scene::Scene;
+use crate::config::Scene;
 
 /// The scene: the built-in one, overridden by `--scene FILE`, then by these
 /// flags.

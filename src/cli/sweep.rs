@@ -183,7 +183,7 @@ impl RunSweepArgs {
             let table: toml::Table = text
                 .parse()
                 .with_context(|| format!("scene file {}", path.display()))?;
-            crate::scene::overlay(&mut spec.scene, table);
+            crate::config::overlay(&mut spec.scene, table);
         }
         if let Some(t) = self.t_end {
             spec.scene.insert("t_end".into(), toml::Value::Float(t));

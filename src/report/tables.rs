@@ -9,8 +9,8 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::{verdict_rules, Config};
-use crate::cli::c0::table as c0_table;
 use crate::kernel::{Derived, KernelInfo};
+use crate::problem::c0::table as c0_table;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Point, PointC0, Row};
 
@@ -248,7 +248,7 @@ pub fn c0_compare(
             };
             let scene = point.scene(&config.scene)?;
             let table = c0_table(&scene)?;
-            let particles = crate::solver::lattice::Lattice::new(
+            let particles = crate::problem::lattice::Lattice::new(
                 scene.n_layers,
                 scene.d,
                 scene.h_over_d * scene.d,

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::step::State;
-use crate::scene::{Initial, Problem};
+use crate::problem::{Initial, Problem};
 
 /// One fluid layer (the particles that started in it).
 #[derive(Debug, Clone, Serialize)]

@@ -1,6 +1,7 @@
 //! The 2D SPH solver for plane shear (Poiseuille) flow, generic over the
-//! kernel. No I/O: [`simulate`] takes a scene and an observer and returns a
-//! [`RunResult`]; `crate::output` writes it.
+//! kernel. No I/O: [`run`] takes a resolved [`Problem`] and an observer and
+//! returns a [`RunResult`]; `crate::run` dispatches a scene to it by kernel
+//! name, `crate::output` writes it. Imports the problem and the kernel only.
 //!
 //! One step (symplectic kick-drift-kick leapfrog):
 //! 1. kick and drift: v += dt/2 a, x += dt v;
@@ -12,7 +13,6 @@
 
 mod diagnostics;
 pub mod ideal_shear;
-pub mod lattice;
 pub mod neighbours;
 mod step;
 
@@ -22,7 +22,8 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::kernel::Kernel;
-use crate::scene::{Problem, Scene, SceneError, WallVelocity};
+use crate::problem::cost::{DtLimit, TimeStep};
+use crate::problem::Problem;
 use neighbours::{Displacements, Entry, NeighbourList};
 use step::{Forces, Params, State};
 
@@ -42,12 +43,12 @@ pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
 
 /// The force pass's floating-point operations per directed pair.
 fn force_flops_per_pair(problem: &Problem) -> u32 {
-    let av = if problem.scene.alpha > 0.0 {
+    let av = if problem.has_artificial_viscosity() {
         step::FORCE_PAIR_FLOPS_AV
     } else {
         step::FORCE_PAIR_FLOPS
     };
-    let mirror = if problem.scene.wall_velocity == WallVelocity::Mirrored {
+    let mirror = if problem.mirrored_walls() {
         step::FORCE_PAIR_FLOPS_MIRROR
     } else {
         0
@@ -77,71 +78,6 @@ pub trait Observer: Send {
 /// An observer that ignores everything.
 pub struct Quiet;
 impl Observer for Quiet {}
-
-/// The time-step limit that bound a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DtLimit {
-    /// 0.25 h / (c0 + |v|max).
-    Cfl,
-    /// 0.125 h^2 / nu.
-    Viscous,
-    /// 0.25 sqrt(h / |a|max).
-    Force,
-}
-
-impl DtLimit {
-    pub fn name(self) -> &'static str {
-        match self {
-            DtLimit::Cfl => "cfl",
-            DtLimit::Viscous => "viscous",
-            DtLimit::Force => "force",
-        }
-    }
-}
-
-/// The three limits for a state with speeds up to `v_max` and accelerations
-/// up to `a_max`, and which binds.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct TimeStep {
-    pub cfl: f64,
-    pub viscous: f64,
-    pub force: f64,
-    pub dt: f64,
-    pub limit: DtLimit,
-}
-
-impl TimeStep {
-    pub fn new(h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
-        let cfl = 0.25 * h / (c0 + v_max);
-        let viscous = 0.125 * h * h / nu;
-        let force = if a_max > 0.0 {
-            0.25 * (h / a_max).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        let (dt, limit) = [
-            (cfl, DtLimit::Cfl),
-            (viscous, DtLimit::Viscous),
-            (force, DtLimit::Force),
-        ]
-        .into_iter()
-        .fold((f64::INFINITY, DtLimit::Cfl), |best, c| {
-            if c.0 < best.0 {
-                c
-            } else {
-                best
-            }
-        });
-        TimeStep {
-            cfl,
-            viscous,
-            force,
-            dt,
-            limit,
-        }
-    }
-}
 
 /// Why a run failed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -343,21 +279,6 @@ impl RunResult {
     }
 }
 
-/// Resolve `scene` for kernel `K` and run it.
-pub fn simulate<K: Kernel>(
-    scene: &Scene,
-    observer: &mut dyn Observer,
-) -> Result<RunResult, SceneError> {
-    if scene.kernel != K::NAME {
-        return Err(SceneError::KernelMismatch {
-            scene: scene.kernel.clone(),
-            solver: K::NAME,
-        });
-    }
-    let problem = Problem::new(scene, K::INFO)?;
-    Ok(run::<K>(&problem, observer))
-}
-
 /// Run a resolved problem with kernel `K` on the current rayon pool.
 pub fn run<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
     // Drive the loop from a worker thread, so each parallel pass is a cheap
@@ -394,7 +315,7 @@ impl<'p> Sim<'p> {
         let h = lat.h;
         let mut s = State::new(&lat, problem);
         let prm = Params::new(problem);
-        let skin = problem.scene.skin * h;
+        let skin = problem.skin * h;
         let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
         // Blocks for the rebuild rule: the lattice layers, stored in turn.
         let block = lat.columns as usize;
@@ -465,10 +386,10 @@ impl<'p> Sim<'p> {
                 y: check.max_abs_y,
                 b,
             })
-        } else if self.max_eps > p.scene.eps_limit {
+        } else if self.max_eps > p.eps_limit {
             Some(Failure::Compaction {
                 eps: self.max_eps,
-                limit: p.scene.eps_limit,
+                limit: p.eps_limit,
             })
         } else {
             None

@@ -6,10 +6,10 @@
 
 use rayon::prelude::*;
 
-use super::lattice::Lattice;
 use super::neighbours::{padded, Displacements, Entry, NeighbourList, LANES};
 use crate::kernel::Kernel;
-use crate::scene::{Initial, PressureForm, Problem, WallVelocity};
+use crate::problem::lattice::Lattice;
+use crate::problem::{Initial, PressureForm, Problem};
 
 /// Particles per parallel task: large enough that a task outweighs rayon's
 /// overhead on the small scenes this problem needs.
@@ -60,7 +60,7 @@ impl State {
         let (mut x, mut y, layer) = lattice.positions();
         let n = x.len();
         let n_fluid = lattice.n_fluid();
-        let jitter = problem.scene.jitter * lattice.d;
+        let jitter = problem.jitter * lattice.d;
         if jitter > 0.0 {
             let mut rng = SplitMix64(0x5eed_5be5);
             for i in 0..n_fluid {
@@ -177,6 +177,9 @@ pub(crate) struct Params {
     pub grad_scale: f64,
     /// alpha c0 h m (31).
     pub av: f64,
+    /// Whether (31) acts at all: [`Problem::has_artificial_viscosity`], the
+    /// same test the flop count makes.
+    pub has_av: bool,
     /// 2 mu (the Laplacian (14) with the right sign).
     pub visc: f64,
     /// Body force along +x.
@@ -203,15 +206,16 @@ impl Params {
             mass_over_h2: problem.mass / (h * h),
             mass: problem.mass,
             rho0: problem.rho0,
-            b_eos: problem.rho0 * problem.c0 * problem.c0 / problem.scene.gamma,
-            gamma: problem.scene.gamma,
-            allow_negative: problem.scene.allow_negative_pressure,
-            symmetric: problem.scene.pressure_form == PressureForm::Symmetric,
+            b_eos: problem.rho0 * problem.c0 * problem.c0 / problem.gamma,
+            gamma: problem.gamma,
+            allow_negative: problem.allow_negative_pressure,
+            symmetric: problem.pressure_form == PressureForm::Symmetric,
             grad_scale: 1.0 / (h * h * h * h),
-            av: problem.scene.alpha * problem.c0 * h * problem.mass,
+            av: problem.alpha * problem.c0 * h * problem.mass,
+            has_av: problem.has_artificial_viscosity(),
             visc: 2.0 * problem.mu,
             body: problem.flow.p,
-            mirror_walls: problem.scene.wall_velocity == WallVelocity::Mirrored,
+            mirror_walls: problem.mirrored_walls(),
             b: problem.lattice.b(),
             beta_max: f64::from(problem.lattice.wall_layers.max(1)),
         }
@@ -848,7 +852,7 @@ fn pair_forces<const AV: bool, const MIRROR: bool>(
 /// - the body force p along +x.
 pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
     let isa = Isa::detect();
-    match (prm.symmetric, prm.av != 0.0) {
+    match (prm.symmetric, prm.has_av) {
         (true, true) => forces_walls::<true, true>(s, list, prm, half_dt, isa),
         (true, false) => forces_walls::<true, false>(s, list, prm, half_dt, isa),
         (false, true) => forces_walls::<false, true>(s, list, prm, half_dt, isa),

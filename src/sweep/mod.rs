@@ -29,11 +29,15 @@ use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
-use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
+use crate::config::{C0Spec, Scene, SceneError};
+use crate::kernel::KernelInfo;
 use crate::kernels;
 use crate::output::Summary;
-use crate::scene::{c0_by_rule, C0Spec, Problem, Scene, SceneError};
-use crate::solver::{self, Observer, RunResult, TimeStep};
+use crate::problem::c0;
+use crate::problem::channel::Channel;
+use crate::problem::cost::Estimate;
+use crate::problem::Problem;
+use crate::solver::{self, Observer, RunResult};
 
 /// What makes a run `inaccurate` or `over-compressed`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -210,7 +214,7 @@ fn default_re() -> Vec<f64> {
     vec![1.0, 30.0]
 }
 fn default_alpha() -> Vec<f64> {
-    vec![crate::scene::DEFAULT_ALPHA]
+    vec![crate::config::DEFAULT_ALPHA]
 }
 
 impl Default for SweepSpec {
@@ -239,7 +243,7 @@ impl SweepSpec {
             self.c0 = vec!["derived".into(), "rule10".into(), "table2".into()];
         }
         for k in &self.kernels {
-            crate::scene::kernel_info(k)?;
+            crate::config::kernel_info(k)?;
         }
         for c in &self.c0 {
             c.parse::<C0Spec>()
@@ -259,8 +263,9 @@ impl SweepSpec {
                 bail!("sweep field `{field}`: {v} must be a positive number");
             }
         }
-        if let Some(v) = self.alpha.iter().find(|v| !(0.0..=1.0).contains(*v)) {
-            bail!("sweep field `alpha`: {v} is outside [0, 1]");
+        for &v in &self.alpha {
+            crate::config::check_alpha(v)
+                .map_err(|e| anyhow::anyhow!("sweep field `alpha`: {e}"))?;
         }
         for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
             if self.scene.contains_key(key) {
@@ -555,22 +560,6 @@ impl Observer for StopWatch<'_> {
     }
 }
 
-fn simulate_by_name(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult, SceneError> {
-    struct Visit<'a> {
-        scene: &'a Scene,
-        observer: &'a mut dyn Observer,
-    }
-    impl KernelVisitor for Visit<'_> {
-        type Output = Result<RunResult, SceneError>;
-        fn visit<K: Kernel>(self) -> Self::Output {
-            solver::simulate::<K>(self.scene, self.observer)
-        }
-    }
-    crate::scene::kernel_info(&scene.kernel)?;
-    kernels::with_kernel(&scene.kernel, Visit { scene, observer })
-        .expect("the registry runs every kernel it lists")
-}
-
 /// Run one point on the current thread (and rayon pool). `None` when the
 /// stop flag ended it before it finished.
 pub fn run_point(
@@ -606,7 +595,7 @@ pub fn run_point(
             ))
         }
     };
-    if let Err(e) = Problem::new(&scene, info) {
+    if let Err(e) = Problem::resolve(&scene, info) {
         let (c0, rule) = c0_of(&scene, info);
         let kind = match &e {
             SceneError::Invalid { field: "c0", .. } => "no_c0",
@@ -623,7 +612,9 @@ pub fn run_point(
     }
     let mut watch = StopWatch { stop };
     // A panic in the solver is a bug, but it costs one row, not the sweep.
-    let result = panic::catch_unwind(AssertUnwindSafe(|| simulate_by_name(&scene, &mut watch)));
+    let result = panic::catch_unwind(AssertUnwindSafe(|| {
+        crate::run::run_scene(&scene, &mut watch)
+    }));
     match result {
         // Stopped before the end: no row, so a resumed sweep reruns it.
         Ok(Ok(r)) if matches!(r.outcome, solver::Outcome::Interrupted { .. }) => None,
@@ -652,32 +643,16 @@ pub fn run_point(
     }
 }
 
-/// The c0 a scene's rule gives (for the record when it is not positive).
+/// The c0 a scene's spec gives (for the record when it is not positive).
 fn c0_of(scene: &Scene, info: &'static KernelInfo) -> (f64, String) {
-    let C0Spec::Rule { factor, rule } = &scene.c0 else {
-        let C0Spec::Value(v) = scene.c0 else {
-            unreachable!()
-        };
-        return (v, "value".into());
+    let fallback = || match &scene.c0 {
+        C0Spec::Value(v) => (*v, "value".to_string()),
+        C0Spec::Rule { rule, .. } => (f64::NAN, rule.to_string()),
     };
-    let probe = Scene {
-        c0: C0Spec::Value(1.0),
-        ..scene.clone()
+    let Ok(channel) = Channel::resolve(scene, info) else {
+        return fallback();
     };
-    let Ok(problem) = Problem::new(&probe, info) else {
-        return (f64::NAN, rule.to_string());
-    };
-    match c0_by_rule(rule, info, scene, &problem.flow) {
-        Ok((c0, name)) => {
-            let name = if *factor == 1.0 {
-                name
-            } else {
-                format!("{factor}*{name}")
-            };
-            (factor * c0, name)
-        }
-        Err(_) => (f64::NAN, rule.to_string()),
-    }
+    c0::by_spec(&scene.c0, info, &channel, scene.alpha).unwrap_or_else(|_| fallback())
 }
 
 /// Estimated work of a point (particles x steps at the starting time step),
@@ -689,11 +664,11 @@ pub fn estimated_cost(point: &Point, base: &toml::Table) -> f64 {
     let Ok(info) = scene.kernel_info() else {
         return 0.0;
     };
-    let Ok(p) = Problem::new(&scene, info) else {
+    let Ok(p) = Problem::resolve(&scene, info) else {
         return 0.0;
     };
-    let ts = TimeStep::new(p.lattice.h, p.c0, p.flow.nu, p.flow.u, p.flow.p);
-    p.lattice.n_particles() as f64 * (p.t_end / ts.dt).ceil()
+    let channel = p.channel();
+    Estimate::new(&channel, p.c0, p.t_end).particle_steps(&channel)
 }
 
 /// How to run many scenes.
