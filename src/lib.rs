@@ -21,6 +21,7 @@ pub mod bench;
 pub mod charts;
 pub mod cli;
 pub mod config;
+pub mod format;
 pub mod output;
 pub mod problem;
 pub mod report;

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod c0;
+pub mod interrupt;
 pub mod kernels;
 pub mod report;
 pub mod run;

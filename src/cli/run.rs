@@ -12,7 +12,7 @@ use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::sweep::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
+use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
 use crate::output::{self, Summary};
 use crate::problem::Problem;

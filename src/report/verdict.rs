@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::empirical::Empirical;
 use super::tables::C0Compare;
 use super::Config;
-use crate::charts::fmt_num;
+use crate::format::fmt_num;
 use crate::kernel::KernelInfo;
 use crate::sweep::{Class, Row};
 

@@ -1,6 +1,6 @@
-//! The sweep's and the report's charts (SVG, plotters), each drawn from plain
-//! data that is also written as the CSV behind it: speed against accuracy
-//! with its Pareto front, stability maps, and the paper's Figure 4.
+//! The sweep's and the report's charts, each drawn from plain data that is
+//! also written as the CSV behind it: speed against accuracy with its Pareto
+//! front, stability maps, and the paper's Figure 4.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -9,37 +9,10 @@ use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::chart_err;
+use crate::format::fmt_num;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Row};
-
-fn chart_err<E: std::error::Error + Send + Sync + 'static>(
-    e: DrawingAreaErrorKind<E>,
-) -> anyhow::Error {
-    anyhow::anyhow!("drawing a chart: {e}")
-}
-
-/// A number for an axis label or a table: 3 significant digits, plain or
-/// with an exponent.
-pub fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    let a = v.abs();
-    if (1e-3..1e4).contains(&a) {
-        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.digits$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{v:.2e}")
-    }
-}
 
 /// Colour of an outcome class.
 pub fn class_color(c: Class) -> RGBColor {
@@ -721,17 +694,4 @@ pub fn by_kernel(rows: &[Row]) -> BTreeMap<String, Vec<&Row>> {
         m.entry(r.kernel.clone()).or_default().push(r);
     }
     m
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fmt_num_is_short() {
-        assert_eq!(fmt_num(0.1), "0.1");
-        assert_eq!(fmt_num(12.3456), "12.3");
-        assert_eq!(fmt_num(1234.0), "1234");
-        assert_eq!(fmt_num(1.5e-5), "1.50e-5");
-    }
 }

@@ -1,0 +1,25 @@
+//! The particle state (structure of arrays) and the passes of one step, one
+//! file per phase: [`state`] (particles and the per-step constants),
+//! [`integrate`] (kick-drift), [`density`] (summation and EOS), [`forces`]
+//! (accelerations and the closing kick), [`isa`] (the instruction set the
+//! pair loops run with). Each pass is a gather over the neighbour list,
+//! parallel over fixed chunks of particles; a particle's sums run in its
+//! list's order, so results do not depend on the thread count.
+
+mod density;
+mod forces;
+mod integrate;
+mod isa;
+mod state;
+
+pub(crate) use density::{density, DENSITY_DISTANCE_FLOPS, DENSITY_SUM_FLOPS};
+pub(crate) use forces::{
+    forces, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV, FORCE_PAIR_FLOPS_MIRROR,
+};
+pub(crate) use integrate::kick_drift;
+pub(crate) use isa::Isa;
+pub(crate) use state::{Params, State};
+
+/// Particles per parallel task: large enough that a task outweighs rayon's
+/// overhead on the small scenes this problem needs.
+pub(super) const CHUNK: usize = 128;
