@@ -15,45 +15,6 @@ use crate::solver::neighbours::{padded, Entry, NeighbourList, LANES};
 pub(crate) const DENSITY_DISTANCE_FLOPS: u32 = 7;
 pub(crate) const DENSITY_SUM_FLOPS: u32 = 1;
 
-/// [`pair_kernel`] for AVX-512 (8 lanes), alone: the passes call it through
-/// [`kernel_chunk_avx512`]; the test that compares ISAs calls it directly.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn pair_kernel_avx512<K: Kernel>(
-    at: (f64, f64),
-    entries: &[u32],
-    xs: (&[f64], &[f64]),
-    width: f64,
-    inv_h2: f64,
-    out: (&mut [f64], &mut [f64]),
-    scratch: &mut Scratch,
-) {
-    pair_kernel::<K>(at, entries, xs, width, inv_h2, out, scratch)
-}
-
-/// [`pair_kernel`] for AVX2 (4 lanes).
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn pair_kernel_avx2<K: Kernel>(
-    at: (f64, f64),
-    entries: &[u32],
-    xs: (&[f64], &[f64]),
-    width: f64,
-    inv_h2: f64,
-    out: (&mut [f64], &mut [f64]),
-    scratch: &mut Scratch,
-) {
-    pair_kernel::<K>(at, entries, xs, width, inv_h2, out, scratch)
-}
-
 /// W and (dW/dq)/q of each of the entries of the particle at `at` into
 /// `out` (W, g), with its neighbours' positions `xs`. Two loops without
 /// branches or bounds checks, so that they vectorise: distances (a gather)
@@ -92,28 +53,6 @@ pub(super) fn pair_kernel<K: Kernel>(
             (*w, *g) = K::w_dw_over_q_lanes(q2);
         }
     }
-}
-
-/// [`pair_gather`] for AVX-512.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn pair_gather_avx512(sources: &[u32], pair_w: &[f64]) -> f64 {
-    pair_gather(sources, pair_w)
-}
-
-/// [`pair_gather`] for AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn pair_gather_avx2(sources: &[u32], pair_w: &[f64]) -> f64 {
-    pair_gather(sources, pair_w)
 }
 
 /// Sum of W over a particle's padded slots, taken from the slots `sources`
@@ -178,14 +117,7 @@ pub(super) fn density_with<K: Kernel>(
     )
         .into_par_iter()
         .enumerate()
-        .for_each(|(c, out)| match isa {
-            // SAFETY: Isa::detect found the CPU features.
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { kernel_chunk_avx512::<K>(c, out, &inp) },
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { kernel_chunk_avx2::<K>(c, out, &inp) },
-            Isa::Base => kernel_chunk::<K>(c, out, &inp),
-        });
+        .for_each(|(c, out)| kernel_chunk_on::<K>(isa, c, out, &inp));
     let pair_w = &s.pair_w[..];
     (
         s.rho.par_chunks_mut(CHUNK),
@@ -195,14 +127,7 @@ pub(super) fn density_with<K: Kernel>(
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, out)| match isa {
-            // SAFETY: Isa::detect found the CPU features.
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { density_chunk_avx512::<K>(c, out, &inp, pair_w) },
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { density_chunk_avx2::<K>(c, out, &inp, pair_w) },
-            Isa::Base => density_chunk::<K>(c, out, &inp, pair_w),
-        })
+        .map(|(c, out)| density_chunk_on::<K>(isa, c, out, &inp, pair_w))
         .reduce(|| f64::NEG_INFINITY, f64::max)
 }
 
@@ -219,27 +144,6 @@ pub(super) struct DensityIn<'a> {
 
 /// One task's outputs of the kernel pass: the W and (dW/dq)/q slots.
 pub(super) type KernelOut<'a> = (&'a mut [f64], &'a mut [f64]);
-
-/// [`kernel_chunk`] for AVX-512: one call per task, so that the vector
-/// code's set-up is paid per task, not per particle.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn kernel_chunk_avx512<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
-    kernel_chunk::<K>(c, out, inp)
-}
-
-/// [`kernel_chunk`] for AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn kernel_chunk_avx2<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
-    kernel_chunk::<K>(c, out, inp)
-}
 
 /// W and (dW/dq)/q of the own entries of the particles of task `c`, in
 /// whole groups of LANES: the few entries past the own ones that this
@@ -272,36 +176,6 @@ pub(super) fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn)
 /// One task's outputs: rho, P, m/rho, P/rho^2.
 pub(super) type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
-/// [`density_chunk`] for AVX-512.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn density_chunk_avx512<K: Kernel>(
-    c: usize,
-    out: DensityOut,
-    inp: &DensityIn,
-    pair_w: &[f64],
-) -> f64 {
-    density_chunk::<K>(c, out, inp, pair_w)
-}
-
-/// [`density_chunk`] for AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn density_chunk_avx2<K: Kernel>(
-    c: usize,
-    out: DensityOut,
-    inp: &DensityIn,
-    pair_w: &[f64],
-) -> f64 {
-    density_chunk::<K>(c, out, inp, pair_w)
-}
-
 /// Density and EOS for the particles of task `c`, from the kernel pass's
 /// `pair_w`; returns their largest fluid compaction.
 #[inline(always)]
@@ -330,4 +204,39 @@ pub(super) fn density_chunk<K: Kernel>(
         }
     }
     max_eps
+}
+
+on_isa! {
+    /// [`kernel_chunk`] compiled for the instruction set `isa`.
+    pub(super) fn kernel_chunk_on[K: Kernel] => kernel_chunk[K](c: usize, out: KernelOut, inp: &DensityIn)
+}
+
+on_isa! {
+    /// [`density_chunk`] compiled for the instruction set `isa`.
+    pub(super) fn density_chunk_on[K: Kernel] => density_chunk[K](
+        c: usize,
+        out: DensityOut,
+        inp: &DensityIn,
+        pair_w: &[f64]
+    ) -> f64
+}
+
+on_isa! {
+    /// [`pair_kernel`] alone, for the test that compares instruction sets.
+    #[cfg(test)]
+    pub(super) fn pair_kernel_on[K: Kernel] => pair_kernel[K](
+        at: (f64, f64),
+        entries: &[u32],
+        xs: (&[f64], &[f64]),
+        width: f64,
+        inv_h2: f64,
+        out: (&mut [f64], &mut [f64]),
+        scratch: &mut Scratch
+    )
+}
+
+on_isa! {
+    /// [`pair_gather`] alone, for the test that compares instruction sets.
+    #[cfg(test)]
+    pub(super) fn pair_gather_on[] => pair_gather[](sources: &[u32], pair_w: &[f64]) -> f64
 }

@@ -78,34 +78,6 @@ pub(super) type ForceArgs<'a> = (
     Scales,
 );
 
-/// [`pair_forces`] for AVX-512.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn pair_forces_avx512<const AV: bool, const MIRROR: bool>(
-    args: ForceArgs,
-    scratch: &mut Scratch,
-) -> (f64, f64) {
-    pair_forces::<AV, MIRROR>(args, scratch)
-}
-
-/// [`pair_forces`] for AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(test)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn pair_forces_avx2<const AV: bool, const MIRROR: bool>(
-    args: ForceArgs,
-    scratch: &mut Scratch,
-) -> (f64, f64) {
-    pair_forces::<AV, MIRROR>(args, scratch)
-}
-
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
 /// loops without branches or bounds checks, as in [`pair_kernel`].
 #[inline(always)]
@@ -248,14 +220,7 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, out)| match isa {
-            // SAFETY: Isa::detect found the CPU features.
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => unsafe { forces_chunk_avx512::<SYMMETRIC, AV, MIRROR>(c, out, &inp) },
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { forces_chunk_avx2::<SYMMETRIC, AV, MIRROR>(c, out, &inp) },
-            Isa::Base => forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, &inp),
-        })
+        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR>(isa, c, out, &inp))
         .reduce(|| Forces::NONE, Forces::merge)
 }
 
@@ -279,42 +244,6 @@ pub(super) struct ForcesIn<'a> {
 
 /// One task's outputs: ax, ay, vx, vy.
 pub(super) type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
-
-/// [`forces_chunk`] for AVX-512: one call per task.
-///
-/// # Safety
-/// The CPU must have AVX-512 F, DQ and VL ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-pub(super) unsafe fn forces_chunk_avx512<
-    const SYMMETRIC: bool,
-    const AV: bool,
-    const MIRROR: bool,
->(
-    c: usize,
-    out: ForcesOut,
-    inp: &ForcesIn,
-) -> Forces {
-    forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, inp)
-}
-
-/// [`forces_chunk`] for AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2 ([`Isa::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn forces_chunk_avx2<
-    const SYMMETRIC: bool,
-    const AV: bool,
-    const MIRROR: bool,
->(
-    c: usize,
-    out: ForcesOut,
-    inp: &ForcesIn,
-) -> Forces {
-    forces_chunk::<SYMMETRIC, AV, MIRROR>(c, out, inp)
-}
 
 /// Accelerations and the closing kick for the fluid particles of task `c`.
 #[inline(always)]
@@ -374,13 +303,22 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
     seen
 }
 
+on_isa! {
+    /// [`forces_chunk`] compiled for the instruction set `isa`.
+    pub(super) fn forces_chunk_on[const SYMMETRIC: bool, const AV: bool, const MIRROR: bool]
+        => forces_chunk[SYMMETRIC, AV, MIRROR](c: usize, out: ForcesOut, inp: &ForcesIn) -> Forces
+}
+
+on_isa! {
+    /// [`pair_forces`] alone, for the test that compares instruction sets.
+    #[cfg(test)]
+    pub(super) fn pair_forces_on[const AV: bool, const MIRROR: bool]
+        => pair_forces[AV, MIRROR](args: ForceArgs, scratch: &mut Scratch) -> (f64, f64)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::density::{pair_gather, pair_kernel};
-    #[cfg(target_arch = "x86_64")]
-    use super::super::density::{
-        pair_gather_avx2, pair_gather_avx512, pair_kernel_avx2, pair_kernel_avx512,
-    };
+    use super::super::density::{pair_gather_on, pair_kernel_on};
     use super::*;
     use crate::kernels::Morris;
 
@@ -418,22 +356,8 @@ mod tests {
             let at = (x[0], y[0]);
             let xs = (&x[..], &y[..]);
             let out = (&mut w[..40], &mut pg[..40]);
-            let w_sum = match isa {
-                #[cfg(target_arch = "x86_64")]
-                Isa::Avx512 => unsafe {
-                    pair_kernel_avx512::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
-                    pair_gather_avx512(&sources, &w)
-                },
-                #[cfg(target_arch = "x86_64")]
-                Isa::Avx2 => unsafe {
-                    pair_kernel_avx2::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
-                    pair_gather_avx2(&sources, &w)
-                },
-                Isa::Base => {
-                    pair_kernel::<Morris>(at, &entries, xs, width, 0.5, out, scratch);
-                    pair_gather(&sources, &w)
-                }
-            };
+            pair_kernel_on::<Morris>(isa, at, &entries, xs, width, 0.5, out, scratch);
+            let w_sum = pair_gather_on(isa, &sources, &w);
             let args = (
                 0,
                 &entries[..],
@@ -445,13 +369,7 @@ mod tests {
                 width,
                 sc,
             );
-            let f = match isa {
-                #[cfg(target_arch = "x86_64")]
-                Isa::Avx512 => unsafe { pair_forces_avx512::<true, true>(args, scratch) },
-                #[cfg(target_arch = "x86_64")]
-                Isa::Avx2 => unsafe { pair_forces_avx2::<true, true>(args, scratch) },
-                Isa::Base => pair_forces::<true, true>(args, scratch),
-            };
+            let f = pair_forces_on::<true, true>(isa, args, scratch);
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
             bits
