@@ -62,21 +62,30 @@ pub(super) struct Scales {
     beta_max: f64,
 }
 
-/// One particle's force inputs: i, its padded list, its slots' sources and
-/// the (dW/dq)/q they point into, (x, y),
-/// (vx, vy) predicted, P or P/rho^2, (m/rho, wall depth), the strip's
-/// width (for the images' offsets), its scales.
-pub(super) type ForceArgs<'a> = (
-    usize,
-    &'a [u32],
-    (&'a [u32], &'a [f64]),
-    (&'a [f64], &'a [f64]),
-    (&'a [f64], &'a [f64]),
-    &'a [f64],
-    (&'a [f64], &'a [f64]),
-    f64,
-    Scales,
-);
+/// One particle's force inputs.
+#[derive(Clone, Copy)]
+pub(super) struct ForceArgs<'a> {
+    /// The particle.
+    pub i: usize,
+    /// Its padded list.
+    pub entries: &'a [u32],
+    /// Its slots' sources and the (dW/dq)/q they point into.
+    pub sources: &'a [u32],
+    pub pair_g: &'a [f64],
+    /// Positions (x, y).
+    pub xs: (&'a [f64], &'a [f64]),
+    /// Velocities (vx, vy) predicted at the step's end.
+    pub vs: (&'a [f64], &'a [f64]),
+    /// P (paper form) or P/rho^2 (symmetric).
+    pub pq: &'a [f64],
+    /// m/rho.
+    pub vol: &'a [f64],
+    /// Wall depth (mirrored walls only).
+    pub depth: &'a [f64],
+    /// The strip's width, for the images' offsets.
+    pub width: f64,
+    pub sc: Scales,
+}
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
 /// loops without branches or bounds checks, as in [`pair_kernel`].
@@ -85,7 +94,19 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
     scratch: &mut Scratch,
 ) -> (f64, f64) {
-    let (i, entries, (sources, pair_g), xs, vs, pq, (vol, depth), width, sc) = args;
+    let ForceArgs {
+        i,
+        entries,
+        sources,
+        pair_g,
+        xs,
+        vs,
+        pq,
+        vol,
+        depth,
+        width,
+        sc,
+    } = args;
     let (x, y) = xs;
     let (vpx, vpy) = vs;
     let n = x.len();
@@ -274,17 +295,19 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
             inv_gap: 1.0 / (prm.b - inp.y[i].abs()).max(f64::MIN_POSITIVE),
             beta_max: prm.beta_max,
         };
-        let args = (
+        let args = ForceArgs {
             i,
             entries,
-            (sources, inp.pair_g),
-            (inp.x, inp.y),
-            (inp.vpx, inp.vpy),
-            inp.pq,
-            (inp.vol, inp.depth),
-            inp.width,
+            sources,
+            pair_g: inp.pair_g,
+            xs: (inp.x, inp.y),
+            vs: (inp.vpx, inp.vpy),
+            pq: inp.pq,
+            vol: inp.vol,
+            depth: inp.depth,
+            width: inp.width,
             sc,
-        );
+        };
         let (fx, fy) = pair_forces::<AV, MIRROR>(args, scratch);
         let axi = prm.grad_scale * fx + prm.body;
         let ayi = prm.grad_scale * fy;
@@ -358,17 +381,19 @@ mod tests {
             let out = (&mut w[..40], &mut pg[..40]);
             pair_kernel_on::<Morris>(isa, at, &entries, xs, width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, &w);
-            let args = (
-                0,
-                &entries[..],
-                (&sources[..], &pg[..]),
-                (&x[..], &y[..]),
-                (&v[..], &v[..]),
-                &v[..],
-                (&x[..], &y[..]),
+            let args = ForceArgs {
+                i: 0,
+                entries: &entries[..],
+                sources: &sources[..],
+                pair_g: &pg[..],
+                xs: (&x[..], &y[..]),
+                vs: (&v[..], &v[..]),
+                pq: &v[..],
+                vol: &x[..],
+                depth: &y[..],
                 width,
                 sc,
-            );
+            };
             let f = pair_forces_on::<true, true>(isa, args, scratch);
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
