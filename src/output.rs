@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::charts::run::{profile_svg, timeseries_svg};
 use crate::format::nan_max;
-use crate::solver::{Outcome, Particle, RunResult, Sample};
+use crate::solver::{DtLimitSteps, Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +39,8 @@ pub struct Summary {
     /// Time reached (below t_end when the run failed or was interrupted).
     pub t: f64,
     pub steps: u64,
-    /// The last full step's dt and the limit that bound it.
+    /// The last full step's dt and the limit that bound it (the limit that
+    /// bound the most steps is results.csv's `dt_limit_dominant`).
     pub dt: f64,
     pub dt_limit: crate::problem::cost::DtLimit,
     pub dt_min: f64,
@@ -75,13 +76,6 @@ pub struct Summary {
     pub failure_step: Option<u64>,
     /// The fluid particle that triggered the failure.
     pub failure_particle: Option<Particle>,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct DtLimitSteps {
-    pub cfl: u64,
-    pub viscous: u64,
-    pub force: u64,
 }
 
 impl Summary {
@@ -125,11 +119,7 @@ impl Summary {
             dt_limit: r.dt.last_limit,
             dt_min: r.dt.min.min(r.dt.last),
             dt_max: r.dt.max.max(r.dt.last),
-            dt_limit_steps: DtLimitSteps {
-                cfl: r.dt.cfl_steps,
-                viscous: r.dt.viscous_steps,
-                force: r.dt.force_steps,
-            },
+            dt_limit_steps: r.dt.steps,
             c0: pr.c0,
             c0_rule: pr.c0_rule.clone(),
             wall_s: r.wall_s,

@@ -11,6 +11,8 @@ use plotters::prelude::*;
 
 use super::chart_err;
 use crate::format::fmt_num;
+use crate::problem::cost::DtLimit;
+use crate::solver::FailureKind;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Row};
 
@@ -159,7 +161,7 @@ pub struct SpeedPoint {
     pub wall_s: f64,
     pub particle_steps: f64,
     /// The time-step limit that bound most steps.
-    pub dt_limit: String,
+    pub dt_limit_dominant: Option<DtLimit>,
     pub class: Class,
     /// On the Pareto front of its Re, by wall time and by particle-steps.
     pub pareto_wall: bool,
@@ -167,6 +169,11 @@ pub struct SpeedPoint {
 }
 
 impl SpeedPoint {
+    /// The dominant limit's name, empty when unknown.
+    fn limit_name(&self) -> &'static str {
+        self.dt_limit_dominant.map_or("", DtLimit::name)
+    }
+
     pub fn series(&self) -> String {
         format!("{} {}", self.kernel, self.rule)
     }
@@ -193,7 +200,7 @@ pub fn speed_points(rows: &[Row]) -> Vec<SpeedPoint> {
             linf: r.linf_max.max(1e-12),
             wall_s: r.wall_s,
             particle_steps: r.particle_steps,
-            dt_limit: r.dt_limit.clone().unwrap_or_default(),
+            dt_limit_dominant: r.dt_limit_dominant,
             class: r.class,
             pareto_wall: false,
             pareto_work: false,
@@ -242,7 +249,7 @@ pub fn speed_csv(points: &[SpeedPoint]) -> String {
             p.linf,
             p.wall_s,
             p.particle_steps,
-            p.dt_limit,
+            p.limit_name(),
             p.class,
             p.pareto_wall,
             p.pareto_work
@@ -311,8 +318,8 @@ fn speed_panel(
     (xlo, xhi): (f64, f64),
     (ylo, yhi): (f64, f64),
 ) -> Result<()> {
-    let limits: Vec<String> = {
-        let mut l: Vec<String> = points.iter().map(|p| p.dt_limit.clone()).collect();
+    let limits: Vec<&str> = {
+        let mut l: Vec<&str> = points.iter().map(|p| p.limit_name()).collect();
         l.sort();
         l.dedup();
         l
@@ -378,13 +385,13 @@ fn speed_panel(
         for p in &mine {
             let at = (p.cost(cost), p.linf);
             let label = Text::new(format!("{}", p.n), (7, -14), ("sans-serif", 11).into_font());
-            match p.dt_limit.as_str() {
-                "viscous" => chart
+            match p.dt_limit_dominant {
+                Some(DtLimit::Viscous) => chart
                     .draw_series(std::iter::once(
                         EmptyElement::at(at) + Circle::new((0, 0), 5, color.filled()) + label,
                     ))
                     .map_err(chart_err)?,
-                "cfl" => chart
+                Some(DtLimit::Cfl) => chart
                     .draw_series(std::iter::once(
                         EmptyElement::at(at)
                             + TriangleMarker::new((0, 0), 6, color.filled())
@@ -410,7 +417,7 @@ pub struct MapCell {
     pub re: f64,
     pub c0_over_u: f64,
     pub class: Class,
-    pub failure_kind: Option<String>,
+    pub failure_kind: Option<FailureKind>,
     pub linf_max: f64,
     pub max_eps: f64,
     pub id: String,
@@ -437,7 +444,7 @@ pub fn map_csv(kernel: &str, cells: &[MapCell]) -> String {
             c.re,
             c.c0_over_u,
             c.class,
-            c.failure_kind.clone().unwrap_or_default(),
+            c.failure_kind.map_or("", FailureKind::name),
             c.linf_max,
             c.max_eps,
             csv_field(&c.id)

@@ -3,7 +3,7 @@
 //! of each: the problem, the c0 table and the sweep's scheduling all ask
 //! here.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::channel::Channel;
 use crate::config::{invalid, SceneError};
@@ -14,7 +14,7 @@ use crate::config::{invalid, SceneError};
 pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 
 /// The time-step limit that bound a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DtLimit {
     /// 0.25 h / (c0 + |v|max).

@@ -220,7 +220,7 @@ pub fn map_cells(rows: &[&Row]) -> Vec<MapCell> {
             re: r.re,
             c0_over_u: r.c0_over_u,
             class: r.class,
-            failure_kind: r.failure_kind.clone(),
+            failure_kind: r.failure_kind,
             linf_max: r.linf_max,
             max_eps: r.max_eps,
             id: r.id.clone(),

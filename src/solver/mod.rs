@@ -93,6 +93,53 @@ pub enum Failure {
     Compaction { eps: f64, limit: f64 },
 }
 
+impl Failure {
+    /// The kind alone, as in JSON's `kind`.
+    pub fn kind(&self) -> FailureKind {
+        match self {
+            Failure::NotFinite => FailureKind::NotFinite,
+            Failure::Speed { .. } => FailureKind::Speed,
+            Failure::ThroughWall { .. } => FailureKind::ThroughWall,
+            Failure::Compaction { .. } => FailureKind::Compaction,
+        }
+    }
+}
+
+/// Why a run, or a point of a sweep, has no result: the solver's
+/// [`Failure`]s by kind, and what stops a point before or outside the
+/// solver. Written as snake_case (`no_c0`, `through_wall`, ...).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailureKind {
+    /// The rule gives no positive c0 for the scene.
+    NoC0,
+    /// The scene is invalid.
+    Scene,
+    /// The solver panicked (a bug; it costs the point, not the sweep).
+    Panic,
+    /// Stopped before the end.
+    Interrupted,
+    NotFinite,
+    Speed,
+    ThroughWall,
+    Compaction,
+}
+
+impl FailureKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            FailureKind::NoC0 => "no_c0",
+            FailureKind::Scene => "scene",
+            FailureKind::Panic => "panic",
+            FailureKind::Interrupted => "interrupted",
+            FailureKind::NotFinite => "not_finite",
+            FailureKind::Speed => "speed",
+            FailureKind::ThroughWall => "through_wall",
+            FailureKind::Compaction => "compaction",
+        }
+    }
+}
+
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -203,10 +250,16 @@ pub struct DtStats {
     pub last_limit: DtLimit,
     pub min: f64,
     pub max: f64,
-    /// Steps bound by each limit: cfl, viscous, force.
-    pub cfl_steps: u64,
-    pub viscous_steps: u64,
-    pub force_steps: u64,
+    /// Steps bound by each limit.
+    pub steps: DtLimitSteps,
+}
+
+/// Steps bound by each time-step limit (`dt_limit_steps` in summary.json).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct DtLimitSteps {
+    pub cfl: u64,
+    pub viscous: u64,
+    pub force: u64,
 }
 
 impl DtStats {
@@ -216,9 +269,7 @@ impl DtStats {
             last_limit: first.limit,
             min: f64::INFINITY,
             max: 0.0,
-            cfl_steps: 0,
-            viscous_steps: 0,
-            force_steps: 0,
+            steps: DtLimitSteps::default(),
         }
     }
 
@@ -228,18 +279,18 @@ impl DtStats {
         self.min = self.min.min(ts.dt);
         self.max = self.max.max(ts.dt);
         match ts.limit {
-            DtLimit::Cfl => self.cfl_steps += 1,
-            DtLimit::Viscous => self.viscous_steps += 1,
-            DtLimit::Force => self.force_steps += 1,
+            DtLimit::Cfl => self.steps.cfl += 1,
+            DtLimit::Viscous => self.steps.viscous += 1,
+            DtLimit::Force => self.steps.force += 1,
         }
     }
 
     /// The limit that bound the most steps.
     pub fn dominant(&self) -> DtLimit {
         let counts = [
-            (self.cfl_steps, DtLimit::Cfl),
-            (self.viscous_steps, DtLimit::Viscous),
-            (self.force_steps, DtLimit::Force),
+            (self.steps.cfl, DtLimit::Cfl),
+            (self.steps.viscous, DtLimit::Viscous),
+            (self.steps.force, DtLimit::Force),
         ];
         counts
             .iter()

@@ -35,9 +35,10 @@ use crate::kernels;
 use crate::output::Summary;
 use crate::problem::c0;
 use crate::problem::channel::Channel;
+use crate::problem::cost::DtLimit;
 use crate::problem::cost::Estimate;
 use crate::problem::Problem;
-use crate::solver::{self, Observer, RunResult};
+use crate::solver::{self, FailureKind, Observer, RunResult};
 
 /// What makes a run `inaccurate` or `over-compressed`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -372,7 +373,7 @@ pub struct Row {
     /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
     /// scene is invalid), `panic`, or the solver's failure kind
     /// (`not_finite`, `speed`, `through_wall`, `compaction`).
-    pub failure_kind: Option<String>,
+    pub failure_kind: Option<FailureKind>,
     pub failure_reason: Option<String>,
     /// L_inf and L2 errors of the layer-mean velocity / U at t_end, and the
     /// worst L_inf over the output times (what `inaccurate` is judged by).
@@ -392,8 +393,10 @@ pub struct Row {
     pub rms_v: f64,
     pub steps: u64,
     /// The time-step limit that bound the most steps (`cfl`, `viscous`,
-    /// `force`), and the last full step.
-    pub dt_limit: Option<String>,
+    /// `force`; `dt_limit` in files written before it was named apart from
+    /// summary.json's last-step `dt_limit`), and the last full step.
+    #[serde(alias = "dt_limit")]
+    pub dt_limit_dominant: Option<DtLimit>,
     #[serde(with = "nan_null")]
     pub dt: f64,
     /// Fluid and wall particles.
@@ -427,7 +430,7 @@ mod nan_null {
 
 impl Row {
     /// A row for a point that did not run (no c0, invalid scene, panic).
-    fn not_run(point: &Point, kind: &str, reason: String, c0: f64, c0_rule: String) -> Row {
+    fn not_run(point: &Point, kind: FailureKind, reason: String, c0: f64, c0_rule: String) -> Row {
         Row {
             index: point.index,
             id: point.id(),
@@ -440,7 +443,7 @@ impl Row {
             c0,
             c0_over_u: f64::NAN,
             class: Class::Failed,
-            failure_kind: Some(kind.to_string()),
+            failure_kind: Some(kind),
             failure_reason: Some(reason),
             linf: f64::NAN,
             linf_max: f64::NAN,
@@ -449,7 +452,7 @@ impl Row {
             eps_bound: f64::NAN,
             rms_v: f64::NAN,
             steps: 0,
-            dt_limit: None,
+            dt_limit_dominant: None,
             dt: f64::NAN,
             particles: 0,
             particle_steps: 0.0,
@@ -464,20 +467,14 @@ impl Row {
         let s = Summary::new(r);
         let eps_bound = rules.eps_bound(r.problem.kernel);
         let (class, failure_kind) = match &r.outcome {
-            solver::Outcome::Failed { failure, .. } => {
-                let kind = serde_json::to_value(failure)
-                    .ok()
-                    .and_then(|v| v["kind"].as_str().map(str::to_string))
-                    .unwrap_or_else(|| "failed".into());
-                (Class::Failed, Some(kind))
-            }
+            solver::Outcome::Failed { failure, .. } => (Class::Failed, Some(failure.kind())),
             solver::Outcome::Ok => (
                 classify(s.linf_rel_err_max, s.max_eps, rules.linf_bound, eps_bound),
                 None,
             ),
             // [`run_point`] keeps no row of a stopped run (it is rerun on
             // resume); a row made of one anyway does not pass for a result.
-            solver::Outcome::Interrupted { .. } => (Class::Failed, Some("interrupted".into())),
+            solver::Outcome::Interrupted { .. } => (Class::Failed, Some(FailureKind::Interrupted)),
         };
         let failure_reason = match class {
             Class::Failed => Some(
@@ -489,7 +486,7 @@ impl Row {
             _ => None,
         };
         let failure_kind = match (class, failure_kind) {
-            (Class::Failed, None) => Some("not_finite".into()),
+            (Class::Failed, None) => Some(FailureKind::NotFinite),
             (_, k) => k,
         };
         Row {
@@ -513,7 +510,7 @@ impl Row {
             eps_bound,
             rms_v: s.rms_v / s.u,
             steps: s.steps,
-            dt_limit: Some(r.dt.dominant().name().to_string()),
+            dt_limit_dominant: Some(r.dt.dominant()),
             dt: s.dt,
             particles: s.particles,
             particle_steps: s.particles as f64 * s.steps as f64,
@@ -576,7 +573,7 @@ pub fn run_point(
         Err(e) => {
             return Some(Row::not_run(
                 point,
-                "scene",
+                FailureKind::Scene,
                 e.to_string(),
                 f64::NAN,
                 String::new(),
@@ -588,7 +585,7 @@ pub fn run_point(
         Err(e) => {
             return Some(Row::not_run(
                 point,
-                "scene",
+                FailureKind::Scene,
                 e.to_string(),
                 f64::NAN,
                 String::new(),
@@ -598,10 +595,10 @@ pub fn run_point(
     if let Err(e) = Problem::resolve(&scene, info) {
         let (c0, rule) = c0_of(&scene, info);
         let kind = match &e {
-            SceneError::Invalid { field: "c0", .. } => "no_c0",
-            _ => "scene",
+            SceneError::Invalid { field: "c0", .. } => FailureKind::NoC0,
+            _ => FailureKind::Scene,
         };
-        let reason = if kind == "no_c0" && !rule.is_empty() {
+        let reason = if kind == FailureKind::NoC0 && !rule.is_empty() {
             format!("{rule} gives c0 = {c0:.6}: no positive root for this scene")
         } else {
             e.to_string()
@@ -621,7 +618,7 @@ pub fn run_point(
         Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
         Ok(Err(e)) => Some(Row::not_run(
             point,
-            "scene",
+            FailureKind::Scene,
             e.to_string(),
             f64::NAN,
             String::new(),
@@ -634,7 +631,7 @@ pub fn run_point(
                 .unwrap_or_else(|| "unknown".into());
             Some(Row::not_run(
                 point,
-                "panic",
+                FailureKind::Panic,
                 format!("the solver panicked: {msg}"),
                 f64::NAN,
                 String::new(),
