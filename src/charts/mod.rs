@@ -2,9 +2,11 @@
 //! and the sweep's and report's ([`sweep`]: speed against accuracy,
 //! stability maps, Figure 4).
 
+pub mod figure4;
 pub mod run;
 pub mod sweep;
 
+pub use figure4::*;
 pub use sweep::*;
 
 use plotters::prelude::DrawingAreaErrorKind;

@@ -180,26 +180,19 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
 /// - the body force p along +x.
 pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
     let isa = Isa::detect();
-    match (prm.symmetric, prm.has_av) {
-        (true, true) => forces_walls::<true, true>(s, list, prm, half_dt, isa),
-        (true, false) => forces_walls::<true, false>(s, list, prm, half_dt, isa),
-        (false, true) => forces_walls::<false, true>(s, list, prm, half_dt, isa),
-        (false, false) => forces_walls::<false, false>(s, list, prm, half_dt, isa),
-    }
-}
-
-pub(super) fn forces_walls<const SYMMETRIC: bool, const AV: bool>(
-    s: &mut State,
-    list: &NeighbourList,
-    prm: &Params,
-    half_dt: f64,
-    isa: Isa,
-) -> Forces {
-    if prm.mirror_walls {
-        forces_with::<SYMMETRIC, AV, true>(s, list, prm, half_dt, isa)
-    } else {
-        forces_with::<SYMMETRIC, AV, false>(s, list, prm, half_dt, isa)
-    }
+    // The pressure form, the artificial viscosity and the walls as constants
+    // of the pair loop: each combination compiles to its own loop.
+    let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
+        (true, true, true) => forces_with::<true, true, true>,
+        (true, true, false) => forces_with::<true, true, false>,
+        (true, false, true) => forces_with::<true, false, true>,
+        (true, false, false) => forces_with::<true, false, false>,
+        (false, true, true) => forces_with::<false, true, true>,
+        (false, true, false) => forces_with::<false, true, false>,
+        (false, false, true) => forces_with::<false, false, true>,
+        (false, false, false) => forces_with::<false, false, false>,
+    };
+    f(s, list, prm, half_dt, isa)
 }
 
 pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
