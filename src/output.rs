@@ -13,7 +13,6 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use crate::charts::run::{profile_svg, timeseries_svg};
-use crate::format::nan_max;
 use crate::solver::{DtLimitSteps, Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
@@ -96,7 +95,7 @@ impl Summary {
                 Some(*particle),
             ),
         };
-        let particles = r.n_fluid + r.n_wall;
+        let particles = r.particles();
         Summary {
             kernel: r.kernel.to_string(),
             n_layers: pr.lattice.n_layers,
@@ -126,7 +125,7 @@ impl Summary {
             particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
             linf_rel_err: last.linf_rel_err,
             l2_rel_err: last.l2_rel_err,
-            linf_rel_err_max: r.samples.iter().map(|s| s.linf_rel_err).fold(0.0, nan_max),
+            linf_rel_err_max: r.linf_rel_err_max(),
             max_eps: r.max_eps_run,
             mean_eps: last.mean_eps,
             rms_v: last.rms_v,

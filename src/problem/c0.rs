@@ -169,7 +169,7 @@ pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
             rule,
             c0,
             c0_over_u: c0 / channel.flow.u,
-            cost: (c0 > 0.0 && c0.is_finite()).then(|| Cost {
+            cost: (c0 > 0.0 && c0.is_finite()).then_some(Cost {
                 dt: ts.dt,
                 dt_limit: ts.limit,
                 dt_cfl: ts.cfl,

@@ -36,8 +36,8 @@ pub use result::{DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle,
 /// (`KernelInfo::flops_per_pair`): the kernel and the distance once per
 /// pair for both directions (Newton's third law: half per directed pair),
 /// the density sum and the force terms per directed pair. Counted by hand
-/// in `step.rs`, beside each loop; padding lanes and listed pairs beyond
-/// the support are work done but not counted.
+/// in `step/density.rs` and `step/forces.rs`, beside each loop; padding
+/// lanes and listed pairs beyond the support are work done but not counted.
 pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
     0.5 * f64::from(kernel_flops + step::DENSITY_DISTANCE_FLOPS)
         + f64::from(step::DENSITY_SUM_FLOPS + force_flops_per_pair(problem))

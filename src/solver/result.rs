@@ -253,6 +253,19 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// Fluid and wall particles.
+    pub fn particles(&self) -> usize {
+        self.n_fluid + self.n_wall
+    }
+
+    /// The largest L_inf error over the output times (NaN if any is).
+    pub fn linf_rel_err_max(&self) -> f64 {
+        self.samples
+            .iter()
+            .map(|s| s.linf_rel_err)
+            .fold(0.0, crate::format::nan_max)
+    }
+
     /// The last diagnostics sample.
     pub fn last(&self) -> &Sample {
         self.samples.last().expect("a run has its t = 0 sample")

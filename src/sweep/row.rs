@@ -4,7 +4,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::{Class, ClassRules, Point};
-use crate::output::Summary;
 use crate::problem::cost::DtLimit;
 use crate::solver::{self, FailureKind, RunResult};
 
@@ -133,12 +132,13 @@ impl Row {
 
     /// The row of a finished run, classified by `rules`.
     pub fn from_run(point: &Point, r: &RunResult, rules: &ClassRules) -> Row {
-        let s = Summary::new(r);
+        let (pr, last) = (&r.problem, r.last());
+        let linf_max = r.linf_rel_err_max();
         let eps_bound = rules.eps_bound(r.problem.kernel);
         let (class, failure_kind) = match &r.outcome {
             solver::Outcome::Failed { failure, .. } => (Class::Failed, Some(failure.kind())),
             solver::Outcome::Ok => (
-                classify(s.linf_rel_err_max, s.max_eps, rules.linf_bound, eps_bound),
+                classify(linf_max, r.max_eps_run, rules.linf_bound, eps_bound),
                 None,
             ),
             // [`run_point`] keeps no row of a stopped run (it is rerun on
@@ -147,10 +147,13 @@ impl Row {
         };
         let failure_reason = match class {
             Class::Failed => Some(
-                s.failure_reason
-                    .clone()
-                    .map(|r| format!("{r} (t = {:.4})", s.failure_t.unwrap_or(f64::NAN)))
-                    .unwrap_or_else(|| "the velocity error is not finite".into()),
+                match &r.outcome {
+                    solver::Outcome::Failed { failure, t, .. } => {
+                        Some(format!("{failure} (t = {t:.4})"))
+                    }
+                    _ => None,
+                }
+                .unwrap_or_else(|| "the velocity error is not finite".into()),
             ),
             _ => None,
         };
@@ -161,31 +164,31 @@ impl Row {
         Row {
             index: point.index,
             id: point.id(),
-            kernel: s.kernel.clone(),
-            n: s.n_layers,
+            kernel: r.kernel.to_string(),
+            n: pr.lattice.n_layers,
             re: point.re,
-            alpha: s.alpha,
+            alpha: pr.alpha,
             c0_spec: point.c0.to_string(),
-            c0_rule: s.c0_rule.clone(),
-            c0: s.c0,
-            c0_over_u: s.c0 / s.u,
+            c0_rule: pr.c0_rule.clone(),
+            c0: pr.c0,
+            c0_over_u: pr.c0 / pr.flow.u,
             class,
             failure_kind,
             failure_reason,
-            linf: s.linf_rel_err,
-            linf_max: s.linf_rel_err_max,
-            l2: s.l2_rel_err,
-            max_eps: s.max_eps,
+            linf: last.linf_rel_err,
+            linf_max,
+            l2: last.l2_rel_err,
+            max_eps: r.max_eps_run,
             eps_bound,
-            rms_v: s.rms_v / s.u,
-            steps: s.steps,
+            rms_v: last.rms_v / pr.flow.u,
+            steps: r.steps,
             dt_limit_dominant: Some(r.dt.dominant()),
-            dt: s.dt,
-            particles: s.particles,
-            particle_steps: s.particles as f64 * s.steps as f64,
-            t_end: s.t_end,
-            t: s.t,
-            wall_s: s.wall_s,
+            dt: r.dt.last,
+            particles: r.particles(),
+            particle_steps: r.particles() as f64 * r.steps as f64,
+            t_end: pr.t_end,
+            t: r.t,
+            wall_s: r.wall_s,
         }
     }
 

@@ -78,7 +78,7 @@ pub(super) fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
 /// evaluation, once per pair, on the lists' own entries
 /// ([`NeighbourList::own`]); then per particle the sum of W over all its
 /// slots, each taken from where it was evaluated, and the (dW/dq)/q of
-/// every slot kept for [`forces`].
+/// every slot kept for [`super::forces::forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
     density_with::<K>(s, list, prm, Isa::detect())
 }
@@ -224,6 +224,7 @@ on_isa! {
 on_isa! {
     /// [`pair_kernel`] alone, for the test that compares instruction sets.
     #[cfg(test)]
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn pair_kernel_on[K: Kernel] => pair_kernel[K](
         at: (f64, f64),
         entries: &[u32],

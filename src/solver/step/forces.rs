@@ -88,7 +88,7 @@ pub(super) struct ForceArgs<'a> {
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
-/// loops without branches or bounds checks, as in [`pair_kernel`].
+/// loops without branches or bounds checks, as in [`super::density::pair_kernel`].
 #[inline(always)]
 pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
     args: ForceArgs,
@@ -165,7 +165,7 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
 }
 
 /// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
-/// listed pairs with the (dW/dq)/q that [`density`] left (0 out of reach).
+/// listed pairs with the (dW/dq)/q that [`super::density::density`] left (0 out of reach).
 ///
 /// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
 ///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;

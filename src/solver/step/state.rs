@@ -173,7 +173,7 @@ pub(crate) struct Params {
     pub visc: f64,
     /// Body force along +x.
     pub body: f64,
-    /// Walls mirror the fluid's velocity in the viscous term ([`forces`]).
+    /// Walls mirror the fluid's velocity in the viscous term ([`super::forces::forces`]).
     pub mirror_walls: bool,
     /// The no-slip plane |y| = B.
     pub b: f64,
