@@ -17,10 +17,14 @@
 # scene.toml, the SVG charts, the JSON on stdout, stderr and the exit status
 # of each run: the default scene of `morris` has no positive derived root and
 # must fail the same way) is compared with cmp.
+#   - a small `sweep` (its results.jsonl rows, sorted, `dt_limit` read as
+#     `dt_limit_dominant`, the row field's name since issue 12),
 # Ignored, because they are wall-clock measurements and differ between any
 # two runs of the same binary: the fields `wall_s` and `particle_steps_per_s`
-# of summary.json and of `run --json` (set to 0 before the comparison). The
-# charts are compared too (they hold only simulated numbers).
+# of summary.json and of `run --json`, and `wall_s` of the sweep's rows (set
+# to 0 before the comparison). The run's charts are compared too (they hold
+# only simulated numbers); the sweep's are not (its speed chart plots wall
+# time).
 # Exit status 0 when everything matches, 1 otherwise (the differing files
 # are listed with a diff of their first lines).
 set -euo pipefail
@@ -75,6 +79,15 @@ produce() { # BIN DIR
         "$bin" c0 --kernel "$k" --json >"$dir/c0-$k.json"
         "$bin" c0 --kernel "$k" --n 16 --re 100 --alpha 0.1 --json >"$dir/c0-$k-n16.json"
     done
+    # A small sweep (every outcome class, the no-c0 row of morris's derived
+    # rule): its rows, in grid order, wall time zeroed. `dt_limit` is read as
+    # `dt_limit_dominant`, its name since the two limits were told apart.
+    "$bin" sweep --kernel monaghan,morris,composite --n 8 --re 1,30 --c0 derived,rule10,table2 \
+        --c0-over-u 0.02,1 --t-end 20 --jobs 2 --quiet --no-charts --out "$dir/sweep" \
+        >/dev/null 2>"$dir/sweep.stderr" || echo "exit $?" >"$dir/sweep.status"
+    jq -c -S 'with_entries(if .key == "dt_limit" then .key = "dt_limit_dominant" else . end)
+        | .wall_s = 0' "$dir/sweep/results.jsonl" | sort -t: -k2 >"$dir/sweep-rows.jsonl"
+    rm -rf "$dir/sweep"
     scenes | while read -r name flags; do
         # shellcheck disable=SC2086
         "$bin" run $flags --quiet --json --out "$dir/$name" >"$dir/$name.stdout.json" 2>"$dir/$name.stderr" \
