@@ -183,22 +183,17 @@ pub fn timeseries_svg(r: &RunResult) -> Result<String> {
             .x_desc("t")
             .draw()
             .map_err(chart_err)?;
-        chart
-            .draw_series(LineSeries::new(
-                eps.iter().map(|e| (e.0, e.1)),
-                RED.stroke_width(2),
-            ))
-            .map_err(chart_err)?
-            .label("max")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
-        chart
-            .draw_series(LineSeries::new(
-                eps.iter().map(|e| (e.0, e.2)),
-                BLUE.stroke_width(2),
-            ))
-            .map_err(chart_err)?
-            .label("mean")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+        let max: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.1)).collect();
+        let mean: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.2)).collect();
+        for (pts, name, color) in [(max, "max", RED), (mean, "mean", BLUE)] {
+            chart
+                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                .map_err(chart_err)?
+                .label(name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
         chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.8))
