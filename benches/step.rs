@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use shearsph::bench::{layers_for, scene};
 use shearsph::kernel::{Kernel, KernelVisitor};
 use shearsph::kernels::{with_kernel, NAMES};
-use shearsph::scene::Problem;
+use shearsph::problem::Problem;
 use shearsph::solver::Stepper;
 
 const PARTICLES: usize = 10_000;
@@ -19,7 +19,7 @@ impl KernelVisitor for Bench<'_> {
     fn visit<K: Kernel>(self) {
         let mut s = scene(K::NAME);
         s.n_layers = layers_for(&s, PARTICLES).expect("a valid bench scene");
-        let problem = Problem::new(&s, K::INFO).expect("a valid bench scene");
+        let problem = Problem::resolve(&s, K::INFO).expect("a valid bench scene");
         let mut stepper = Stepper::<K>::new(&problem);
         let mut g = self.0.benchmark_group(format!("step/{}", K::NAME));
         g.throughput(Throughput::Elements(stepper.particles() as u64));

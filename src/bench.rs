@@ -12,10 +12,12 @@
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
+use crate::config::{Initial, Scene, WallVelocity};
 use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
-use crate::scene::{Initial, Problem, Scene, WallVelocity};
-use crate::solver::{self, lattice::Lattice, StepsRun};
+use crate::problem::lattice::Lattice;
+use crate::problem::Problem;
+use crate::solver::{self, StepsRun};
 
 /// What to measure.
 #[derive(Debug, Clone)]
@@ -98,7 +100,7 @@ pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
     // Not below the kernel's own lower bound on N (the scene's check says).
     let mut s = scene.clone();
     s.n_layers = n;
-    while let Err(e) = Problem::new(&s, info) {
+    while let Err(e) = Problem::resolve(&s, info) {
         if s.n_layers > 1_000 {
             return Err(e.into());
         }
@@ -313,7 +315,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
         for &target in &opts.particles {
             let mut s = base.clone();
             s.n_layers = layers_for(&s, target)?;
-            let problem = Problem::new(&s, info)?;
+            let problem = Problem::resolve(&s, info)?;
             let particles = problem.lattice.n_particles();
             let steps = opts.steps.unwrap_or_else(|| {
                 ((opts.particle_steps / particles as f64).ceil() as u64).max(10)
@@ -524,7 +526,7 @@ pub fn pysph_match_problem(wall_velocity: WallVelocity, layers: u32) -> Result<P
         t_end: Some(1e-6),
         ..Scene::builtin()
     };
-    let mut problem = Problem::new(&scene, scene.kernel_info()?)?;
+    let mut problem = Problem::resolve(&scene, scene.kernel_info()?)?;
     if layers == PYSPH_MATCH_LAYERS {
         // A wider strip than the kernel needs, to match the particle count:
         // the flow does not depend on x.

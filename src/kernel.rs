@@ -100,9 +100,8 @@ impl C0Model {
     /// (e.g. Q < 0 with S > 0).
     pub fn c0(&self, u_max: f64, n_layers: f64, p: f64, d: f64, alpha: f64) -> f64 {
         let scale = u_max / (n_layers * n_layers);
-        let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
-        scale
-            * ((self.p.value * alpha * alpha + self.q.value * a_big).sqrt() - self.s.value * alpha)
+        let (pc, qc, sc) = (self.p.value, self.q.value, self.s.value);
+        scale * c0_root(pc, qc, sc, u_max, n_layers, p, d, alpha)
     }
 }
 
@@ -119,10 +118,27 @@ pub struct PrintedC0 {
 
 impl PrintedC0 {
     pub fn c0(&self, u_max: f64, n_layers: f64, p: f64, d: f64, alpha: f64) -> f64 {
-        let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
-        self.factor * u_max * ((self.p * alpha * alpha + self.q * a_big).sqrt() - self.s * alpha)
-            / (n_layers * n_layers)
+        let root = c0_root(self.p, self.q, self.s, u_max, n_layers, p, d, alpha);
+        self.factor * u_max * root / (n_layers * n_layers)
     }
+}
+
+/// The one root formula of the c0 polynomial, up to its scale U / N^2:
+/// sqrt(P alpha^2 + Q A) - S alpha with A = p d N^4 / U^2. Both the derived
+/// models and the paper's printed Table 2 rows evaluate it.
+#[allow(clippy::too_many_arguments)]
+pub fn c0_root(
+    p_coef: f64,
+    q_coef: f64,
+    s_coef: f64,
+    u_max: f64,
+    n_layers: f64,
+    p: f64,
+    d: f64,
+    alpha: f64,
+) -> f64 {
+    let a_big = p * d * n_layers.powi(4) / (u_max * u_max);
+    (p_coef * alpha * alpha + q_coef * a_big).sqrt() - s_coef * alpha
 }
 
 /// The paper's Table 1 row for a kernel: eps at 0, at 0.5 T, and its mean.

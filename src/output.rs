@@ -10,10 +10,10 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{bail, Context, Result};
-use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::solver::{Outcome, Particle, RunResult, Sample};
+use crate::charts::run::{profile_svg, timeseries_svg};
+use crate::solver::{DtLimitSteps, Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
 #[derive(Debug, Clone, Serialize)]
@@ -33,14 +33,15 @@ pub struct Summary {
     pub nu: f64,
     pub p: f64,
     pub alpha: f64,
-    pub initial: crate::scene::Initial,
+    pub initial: crate::config::Initial,
     pub t_end: f64,
     /// Time reached (below t_end when the run failed or was interrupted).
     pub t: f64,
     pub steps: u64,
-    /// The last full step's dt and the limit that bound it.
+    /// The last full step's dt and the limit that bound it (the limit that
+    /// bound the most steps is results.csv's `dt_limit_dominant`).
     pub dt: f64,
-    pub dt_limit: crate::solver::DtLimit,
+    pub dt_limit: crate::problem::cost::DtLimit,
     pub dt_min: f64,
     pub dt_max: f64,
     /// Steps bound by each limit.
@@ -76,13 +77,6 @@ pub struct Summary {
     pub failure_particle: Option<Particle>,
 }
 
-#[derive(Debug, Clone, Serialize)]
-pub struct DtLimitSteps {
-    pub cfl: u64,
-    pub viscous: u64,
-    pub force: u64,
-}
-
 impl Summary {
     pub fn new(r: &RunResult) -> Summary {
         let pr = &r.problem;
@@ -101,7 +95,7 @@ impl Summary {
                 Some(*particle),
             ),
         };
-        let particles = r.n_fluid + r.n_wall;
+        let particles = r.particles();
         Summary {
             kernel: r.kernel.to_string(),
             n_layers: pr.lattice.n_layers,
@@ -115,7 +109,7 @@ impl Summary {
             re: pr.re,
             nu: pr.flow.nu,
             p: pr.flow.p,
-            alpha: pr.scene.alpha,
+            alpha: pr.alpha,
             initial: pr.initial,
             t_end: pr.t_end,
             t: r.t,
@@ -124,18 +118,14 @@ impl Summary {
             dt_limit: r.dt.last_limit,
             dt_min: r.dt.min.min(r.dt.last),
             dt_max: r.dt.max.max(r.dt.last),
-            dt_limit_steps: DtLimitSteps {
-                cfl: r.dt.cfl_steps,
-                viscous: r.dt.viscous_steps,
-                force: r.dt.force_steps,
-            },
+            dt_limit_steps: r.dt.steps,
             c0: pr.c0,
             c0_rule: pr.c0_rule.clone(),
             wall_s: r.wall_s,
             particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
             linf_rel_err: last.linf_rel_err,
             l2_rel_err: last.l2_rel_err,
-            linf_rel_err_max: r.samples.iter().map(|s| s.linf_rel_err).fold(0.0, nan_max),
+            linf_rel_err_max: r.linf_rel_err_max(),
             max_eps: r.max_eps_run,
             mean_eps: last.mean_eps,
             rms_v: last.rms_v,
@@ -152,14 +142,6 @@ impl Summary {
 
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a summary serialises")
-    }
-}
-
-fn nan_max(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b)
     }
 }
 
@@ -276,235 +258,4 @@ pub fn timeseries_csv(samples: &[Sample]) -> String {
         );
     }
     out
-}
-
-const SIZE: (u32, u32) = (900, 650);
-
-fn chart_err<E: std::error::Error + Send + Sync + 'static>(
-    e: DrawingAreaErrorKind<E>,
-) -> anyhow::Error {
-    anyhow::anyhow!("drawing a chart: {e}")
-}
-
-/// u / U against y / B: the SPH layer means at a few output times (points)
-/// and the analytic reference at the same times (lines).
-pub fn profile_svg(r: &RunResult) -> Result<String> {
-    let flow = r.problem.flow;
-    let from_rest = r.problem.initial == crate::scene::Initial::Rest;
-    // Up to five samples, spread over the run, always the last.
-    let n = r.samples.len();
-    let mut picks: Vec<usize> = (1..=5).map(|k| k * (n - 1) / 5).collect();
-    picks.dedup();
-    let u_max = r
-        .samples
-        .iter()
-        .flat_map(|s| s.profile.iter().map(|l| l.u.abs()))
-        .filter(|u| u.is_finite())
-        .fold(flow.u, f64::max);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(chart_err)?;
-        let mut title = format!(
-            "{} N = {} Re = {:.4} c0 = {:.4} U ({}) alpha = {}",
-            r.kernel,
-            r.problem.lattice.n_layers,
-            r.problem.re,
-            r.problem.c0 / flow.u,
-            r.problem.c0_rule,
-            r.problem.scene.alpha
-        );
-        match &r.outcome {
-            Outcome::Ok => {}
-            Outcome::Failed { t, .. } => title.push_str(&format!(": FAILED at t = {t:.4}")),
-            Outcome::Interrupted { t, .. } => {
-                title.push_str(&format!(": INTERRUPTED at t = {t:.4}"))
-            }
-        }
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(55)
-            .build_cartesian_2d(0.0..1.05 * u_max / flow.u, -1.0..1.0)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("u / U")
-            .y_desc("y / B")
-            .draw()
-            .map_err(chart_err)?;
-        for (k, &i) in picks.iter().enumerate() {
-            let s = &r.samples[i];
-            let color = Palette99::pick(k).to_rgba();
-            let curve = (0..=200).map(|m| {
-                let y = -flow.b + 2.0 * flow.b * m as f64 / 200.0;
-                let u = if from_rest {
-                    flow.startup(y, s.t)
-                } else {
-                    flow.steady(y)
-                };
-                (u / flow.u, y / flow.b)
-            });
-            chart
-                .draw_series(LineSeries::new(curve, color.stroke_width(2)))
-                .map_err(chart_err)?
-                .label(format!("t = {:.4}", s.t))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            let points = s
-                .profile
-                .iter()
-                .filter(|l| l.u.is_finite() && l.y.is_finite())
-                .map(|l| Circle::new((l.u / flow.u, l.y / flow.b), 3, color.filled()));
-            chart.draw_series(points).map_err(chart_err)?;
-        }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
-        root.present().map_err(chart_err)?;
-    }
-    Ok(svg)
-}
-
-/// Errors (log scale), compaction and transverse pulsation over time.
-pub fn timeseries_svg(r: &RunResult) -> Result<String> {
-    let s = &r.samples;
-    let t_max = s.last().map_or(1.0, |l| l.t).max(1e-12);
-    let u = r.problem.flow.u;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (SIZE.0, 900)).into_drawing_area();
-        root.fill(&WHITE).map_err(chart_err)?;
-        let panels = root.split_evenly((3, 1));
-
-        // Errors, on a log scale (the error at t = 0 is zero: skipped).
-        let err_points = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-            s.iter()
-                .map(|x| (x.t, f(x)))
-                .filter(|p| p.1 > 0.0 && p.1.is_finite())
-                .collect()
-        };
-        let linf = err_points(|x| x.linf_rel_err);
-        let l2 = err_points(|x| x.l2_rel_err);
-        let (lo, hi) = linf
-            .iter()
-            .chain(&l2)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
-                (lo.min(p.1), hi.max(p.1))
-            });
-        let (lo, hi) = if lo < hi {
-            (lo / 2.0, hi * 2.0)
-        } else {
-            (1e-6, 1.0)
-        };
-        let mut chart = ChartBuilder::on(&panels[0])
-            .caption("velocity error / U (layer means)", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, (lo..hi).log_scale())
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .draw()
-            .map_err(chart_err)?;
-        for (pts, name, color) in [(linf, "L_inf", RED), (l2, "L2", BLUE)] {
-            chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(chart_err)?
-                .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
-
-        // Compaction.
-        let finite = |v: f64| if v.is_finite() { Some(v) } else { None };
-        let eps: Vec<(f64, f64, f64)> = s
-            .iter()
-            .filter_map(|x| Some((x.t, finite(x.max_eps)?, finite(x.mean_eps)?)))
-            .collect();
-        let (lo, hi) = eps
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
-                (lo.min(e.2).min(e.1), hi.max(e.1))
-            });
-        let pad = ((hi - lo) * 0.1).max(1e-6);
-        let (lo, hi) = if lo <= hi {
-            (lo - pad, hi + pad)
-        } else {
-            (-1.0, 1.0)
-        };
-        let mut chart = ChartBuilder::on(&panels[1])
-            .caption("compaction eps = rho/rho0 - 1 (fluid)", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, lo..hi)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .draw()
-            .map_err(chart_err)?;
-        chart
-            .draw_series(LineSeries::new(
-                eps.iter().map(|e| (e.0, e.1)),
-                RED.stroke_width(2),
-            ))
-            .map_err(chart_err)?
-            .label("max")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
-        chart
-            .draw_series(LineSeries::new(
-                eps.iter().map(|e| (e.0, e.2)),
-                BLUE.stroke_width(2),
-            ))
-            .map_err(chart_err)?
-            .label("mean")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
-
-        // Transverse pulsation.
-        let v: Vec<(f64, f64)> = s
-            .iter()
-            .filter_map(|x| Some((x.t, finite(x.rms_v / u)?)))
-            .collect();
-        let hi = v.iter().map(|p| p.1).fold(0.0f64, f64::max).max(1e-12) * 1.1;
-        let mut chart = ChartBuilder::on(&panels[2])
-            .caption("RMS transverse velocity / U", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, 0.0..hi)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .draw()
-            .map_err(chart_err)?;
-        chart
-            .draw_series(LineSeries::new(v, GREEN.stroke_width(2)))
-            .map_err(chart_err)?;
-        root.present().map_err(chart_err)?;
-    }
-    Ok(svg)
 }

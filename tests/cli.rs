@@ -107,7 +107,7 @@ fn run_writes_every_output() {
 
     // The scene as run reads back as a scene.
     let scene = std::fs::read_to_string(out.join("scene.toml")).unwrap();
-    shearsph::scene::Scene::from_toml(&scene).unwrap();
+    shearsph::config::Scene::from_toml(&scene).unwrap();
 }
 
 #[test]

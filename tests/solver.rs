@@ -6,10 +6,9 @@
 //! Tolerances are twice the measured errors (the measured value is in the
 //! comment), on small scenes that finish in seconds.
 
-use shearsph::kernel::{Kernel, KernelVisitor};
-use shearsph::kernels::{self, KERNELS};
-use shearsph::scene::{Initial, Scene, WallVelocity};
-use shearsph::solver::{self, Failure, Observer, Outcome, Quiet, RunResult};
+use shearsph::config::{Initial, Scene, WallVelocity};
+use shearsph::kernels::KERNELS;
+use shearsph::solver::{Failure, Observer, Outcome, Quiet, RunResult};
 
 /// The test scene: N = 8, Re = 10, the paper's Table 2 sound speed (10 U
 /// for a kernel without a paper row), no artificial viscosity (its extra shear viscosity, about alpha c0 h / 8, is
@@ -20,7 +19,7 @@ fn scene(kernel: &str, initial: Initial) -> Scene {
     s.n_layers = 8;
     s.re = Some(10.0);
     s.alpha = 0.0;
-    let has_table2 = kernels::kernel_info(kernel).is_some_and(|k| k.printed_c0.is_some());
+    let has_table2 = shearsph::kernels::kernel_info(kernel).is_some_and(|k| k.printed_c0.is_some());
     s.c0 = if has_table2 { "table2" } else { "rule10" }
         .parse()
         .unwrap();
@@ -33,14 +32,7 @@ fn run(scene: &Scene) -> RunResult {
 }
 
 fn run_observed(scene: &Scene, observer: &mut dyn Observer) -> RunResult {
-    struct Visit<'a>(&'a Scene, &'a mut dyn Observer);
-    impl KernelVisitor for Visit<'_> {
-        type Output = RunResult;
-        fn visit<K: Kernel>(self) -> RunResult {
-            solver::simulate::<K>(self.0, self.1).expect("valid scene")
-        }
-    }
-    kernels::with_kernel(&scene.kernel, Visit(scene, observer)).expect("known kernel")
+    shearsph::run::run_scene(scene, observer).expect("valid scene")
 }
 
 /// Largest L_inf error of the layer means over the output times.

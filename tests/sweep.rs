@@ -106,7 +106,10 @@ fn a_sweep_runs_every_point_once_and_resumes_without_rerunning() {
         .unwrap()
         .default_c0_model();
     if model.q.value <= 0.0 {
-        assert_eq!(morris_derived.failure_kind.as_deref(), Some("no_c0"));
+        assert_eq!(
+            morris_derived.failure_kind,
+            Some(shearsph::solver::FailureKind::NoC0)
+        );
     }
 
     // Again, with the same grid and with none: nothing reruns.

@@ -2,11 +2,11 @@
 //! generated tree or pass without a word. Each class has its own message.
 
 use shearsph_codegen::analysis::{analyse, Options};
-use shearsph_codegen::lattice::Discretisation;
 use shearsph_codegen::kernel::{
     check_emitted_names, load_dir, parse_kernel, read_kernel_file, shape_facts, KernelError,
     RESERVED_NAMES, RUST_KEYWORDS,
 };
+use shearsph_codegen::lattice::Discretisation;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -7,8 +7,8 @@ use anyhow::{bail, Result};
 use clap::Args;
 
 use crate::bench::{self, Options};
+use crate::config::WallVelocity;
 use crate::kernels;
-use crate::scene::WallVelocity;
 
 /// Time the solver's steps: throughput, ns per pair, memory, GFLOP/s against
 /// the machine's peak, and the growth of the cost with the particle count.

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod c0;
+pub mod interrupt;
 pub mod kernels;
 pub mod report;
 pub mod run;
@@ -15,7 +16,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 
-use crate::scene::Scene;
+use crate::config::Scene;
 
 /// The scene: the built-in one, overridden by `--scene FILE`, then by these
 /// flags.

@@ -8,7 +8,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use super::sweep::{scenes_bar, stop_on_ctrl_c};
+use super::interrupt::stop_on_ctrl_c;
+use super::sweep::scenes_bar;
 use crate::report::{self, Config, Options};
 use crate::sweep::Parallel;
 

@@ -12,13 +12,12 @@ use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::sweep::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
+use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
-use crate::kernel::{Kernel, KernelVisitor};
-use crate::kernels;
 use crate::output::{self, Summary};
-use crate::scene::{Problem, Scene};
-use crate::solver::{self, Observer, Outcome, RunResult, Sample};
+use crate::problem::Problem;
+use crate::run::run_problem;
+use crate::solver::{Observer, Outcome, Sample};
 
 /// Exit status of a run that completed but whose outcome is `failed`.
 pub const EXIT_FAILED_RUN: u8 = 3;
@@ -48,7 +47,7 @@ pub struct RunArgs {
 pub fn main(args: RunArgs) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Check everything before touching the output folder.
-    let problem = Problem::new(&scene, scene.kernel_info()?)?;
+    let problem = Problem::resolve(&scene, scene.kernel_info()?)?;
     output::prepare_dir(&args.out, args.force)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -76,7 +75,7 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
         t_end: problem.t_end,
         stop,
     };
-    let result = run_scene(&scene, &mut progress)?;
+    let result = run_problem(&problem, &mut progress);
     bar.finish_and_clear();
 
     output::write_outputs(&args.out, &result, true)?;
@@ -101,24 +100,6 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
             ExitCode::from(EXIT_INTERRUPTED)
         }
     })
-}
-
-/// Run a scene with the kernel it names, dispatched through the registry.
-pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult> {
-    struct Visit<'a> {
-        scene: &'a Scene,
-        observer: &'a mut dyn Observer,
-    }
-    impl KernelVisitor for Visit<'_> {
-        type Output = Result<RunResult, crate::scene::SceneError>;
-        fn visit<K: Kernel>(self) -> Self::Output {
-            solver::simulate::<K>(self.scene, self.observer)
-        }
-    }
-    crate::scene::kernel_info(&scene.kernel)?;
-    let result = kernels::with_kernel(&scene.kernel, Visit { scene, observer })
-        .expect("the registry has a solver for every kernel it lists");
-    Ok(result?)
 }
 
 struct Progress {

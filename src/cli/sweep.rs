@@ -6,23 +6,17 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
+use super::interrupt::{stop_on_ctrl_c, EXIT_INTERRUPTED};
 use crate::charts;
 use crate::output::write_atomic;
 use crate::report;
 use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
-
-/// Exit status of a command stopped by Ctrl-C (SIGINT) after keeping what it
-/// had (a sweep its finished rows, a run its outputs so far): 128 + 2, what
-/// a shell reports for a process that SIGINT ended.
-pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Run a grid of scenes in parallel, or merge shard folders.
 ///
@@ -184,7 +178,7 @@ impl RunSweepArgs {
             let table: toml::Table = text
                 .parse()
                 .with_context(|| format!("scene file {}", path.display()))?;
-            crate::scene::overlay(&mut spec.scene, table);
+            crate::config::overlay(&mut spec.scene, table);
         }
         if let Some(t) = self.t_end {
             spec.scene.insert("t_end".into(), toml::Value::Float(t));
@@ -200,28 +194,6 @@ impl RunSweepArgs {
         }
         Ok(Some(spec.resolved()?))
     }
-}
-
-/// A stop flag set by Ctrl-C (SIGINT): the first press stops cleanly, a
-/// second quits at once (rows already written are kept either way).
-pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>> {
-    stop_on_ctrl_c_saying("stopping the running scenes; finished rows are kept")
-}
-
-/// [`stop_on_ctrl_c`] for any command: the first press prints
-/// `interrupted: {what} (Ctrl-C again quits at once)`. One per process.
-pub fn stop_on_ctrl_c_saying(what: &'static str) -> Result<Arc<AtomicBool>> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = stop.clone();
-    ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            eprintln!("\ninterrupted again: quitting now");
-            std::process::exit(i32::from(EXIT_INTERRUPTED));
-        }
-        eprintln!("\ninterrupted: {what} (Ctrl-C again quits at once)");
-    })
-    .context("installing the Ctrl-C handler")?;
-    Ok(stop)
 }
 
 /// A progress bar over `len` scenes on stderr, hidden when stderr is not a

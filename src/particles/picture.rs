@@ -183,7 +183,7 @@ pub fn particle_svg(
             .disable_x_axis()
             .y_labels(6)
             .y_label_style(("sans-serif", 13))
-            .y_label_formatter(&|v| crate::charts::fmt_num(*v))
+            .y_label_formatter(&|v| crate::format::fmt_num(*v))
             .draw()
             .map_err(draw_err)?;
         let steps = 64;

@@ -131,7 +131,7 @@ impl Empirical {
 }
 
 fn fmt(v: f64) -> String {
-    crate::charts::fmt_num(v)
+    crate::format::fmt_num(v)
 }
 
 fn meets(criterion: &str, class: Class) -> bool {

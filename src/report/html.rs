@@ -5,7 +5,8 @@ use std::fmt::Write as _;
 
 use super::tables::EpsCompare;
 use super::ReportData;
-use crate::charts::{class_hex, fmt_num};
+use crate::charts::class_hex;
+use crate::format::fmt_num;
 use crate::sweep::Class;
 
 /// A figure as written: its SVG file, the CSV behind it, and its text.

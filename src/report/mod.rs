@@ -23,10 +23,12 @@ use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
 use crate::charts::{self, EpsCurve, EpsPanel, MapCell, MapLine};
+use crate::config::{C0Rule, C0Spec};
 use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
 use crate::output::{prepare_dir, write_atomic};
-use crate::scene::{all_rules, c0_by_rule, C0Rule, C0Spec, Problem};
+use crate::problem::c0::{all_rules, by_rule};
+use crate::problem::channel::Channel;
 use crate::solver::ideal_shear;
 use crate::sweep::{self, store, ClassRules, Parallel, Point, PointC0, Row};
 
@@ -109,7 +111,7 @@ impl Config {
 
     fn check(&self) -> Result<()> {
         for k in &self.kernels {
-            crate::scene::kernel_info(k)?;
+            crate::config::kernel_info(k)?;
         }
         for re in &self.empirical.re {
             if !self.maps.re.contains(re) {
@@ -218,7 +220,7 @@ pub fn map_cells(rows: &[&Row]) -> Vec<MapCell> {
             re: r.re,
             c0_over_u: r.c0_over_u,
             class: r.class,
-            failure_kind: r.failure_kind.clone(),
+            failure_kind: r.failure_kind,
             linf_max: r.linf_max,
             max_eps: r.max_eps,
             id: r.id.clone(),
@@ -236,7 +238,7 @@ pub fn rule_lines(
     alpha: f64,
     res: &[f64],
 ) -> Result<Vec<MapLine>> {
-    let info = crate::scene::kernel_info(kernel)?;
+    let info = crate::config::kernel_info(kernel)?;
     let (lo, hi) = res
         .iter()
         .filter(|r| **r > 0.0)
@@ -261,8 +263,8 @@ pub fn rule_lines(
                 c0: PointC0::OverU(1.0),
             };
             let scene = point.scene(base)?;
-            let problem = Problem::new(&scene, info)?;
-            let c0 = c0_by_rule(&rule, info, &scene, &problem.flow)
+            let channel = Channel::resolve(&scene, info)?;
+            let c0 = by_rule(&rule, info, &channel, scene.alpha)
                 .map(|(c, _)| c / scene.u)
                 .unwrap_or(f64::NAN);
             if c0 > 0.0 && c0.is_finite() {
@@ -298,7 +300,7 @@ pub fn figure4(
         t: &'a [f64],
     }
     impl KernelVisitor for Measure<'_> {
-        type Output = Result<Vec<Vec<f64>>, crate::scene::SceneError>;
+        type Output = Result<Vec<Vec<f64>>, crate::config::SceneError>;
         fn visit<K: Kernel>(self) -> Self::Output {
             ideal_shear::eps_series::<K>(self.n_layers, self.layers, self.t)
         }

@@ -9,8 +9,9 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::{verdict_rules, Config};
-use crate::cli::c0::table as c0_table;
 use crate::kernel::{Derived, KernelInfo};
+use crate::problem::c0::table as c0_table;
+use crate::problem::cost::DtLimit;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Point, PointC0, Row};
 
@@ -226,7 +227,8 @@ pub struct C0Compare {
     pub max_eps: f64,
     pub wall_s: f64,
     pub steps: u64,
-    pub run_dt_limit: Option<String>,
+    /// The limit that bound most of the run's steps.
+    pub run_dt_limit_dominant: Option<DtLimit>,
 }
 
 /// Every rule at every verdict Re for every kernel.
@@ -248,7 +250,7 @@ pub fn c0_compare(
             };
             let scene = point.scene(&config.scene)?;
             let table = c0_table(&scene)?;
-            let particles = crate::solver::lattice::Lattice::new(
+            let particles = crate::problem::lattice::Lattice::new(
                 scene.n_layers,
                 scene.d,
                 scene.h_over_d * scene.d,
@@ -287,7 +289,7 @@ pub fn c0_compare(
                     max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
                     wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
                     steps: ran.map_or(0, |r| r.steps),
-                    run_dt_limit: ran.and_then(|r| r.dt_limit.clone()),
+                    run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
                 });
             }
         }
@@ -297,7 +299,7 @@ pub fn c0_compare(
 
 pub fn c0_compare_csv(list: &[C0Compare]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit\n",
+        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant\n",
     );
     for c in list {
         let _ = writeln!(
@@ -320,7 +322,7 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.max_eps,
             c.wall_s,
             c.steps,
-            c.run_dt_limit.clone().unwrap_or_default()
+            c.run_dt_limit_dominant.map_or("", DtLimit::name)
         );
     }
     out

@@ -7,8 +7,9 @@ use serde::Serialize;
 use super::empirical::Empirical;
 use super::tables::C0Compare;
 use super::Config;
-use crate::charts::fmt_num;
+use crate::format::fmt_num;
 use crate::kernel::KernelInfo;
+use crate::problem::cost::DtLimit;
 use crate::sweep::{Class, Row};
 
 #[derive(Debug, Clone, Serialize)]
@@ -55,7 +56,7 @@ fn run_words(c: &C0Compare) -> String {
             fmt_num(c.max_eps),
             fmt_num(c.wall_s),
             c.steps,
-            c.run_dt_limit.clone().unwrap_or_default()
+            c.run_dt_limit_dominant.map_or("", DtLimit::name)
         ),
     }
 }
@@ -182,7 +183,7 @@ pub fn verdicts(
                             } else {
                                 t.push_str(&format!(
                                     ". It cost about the same as 10 U ({} against {} steps): the {} limit binds the time step at this Re",
-                                    d.steps, r.steps, d.run_dt_limit.clone().unwrap_or_default()
+                                    d.steps, r.steps, d.run_dt_limit_dominant.map_or("", DtLimit::name)
                                 ));
                             }
                         }

@@ -5,7 +5,8 @@
 use serde::Serialize;
 
 use super::step::State;
-use crate::scene::{Initial, Problem};
+use crate::format::nan_max;
+use crate::problem::{Initial, Problem};
 
 /// One fluid layer (the particles that started in it).
 #[derive(Debug, Clone, Serialize)]
@@ -102,14 +103,5 @@ pub(crate) fn sample(problem: &Problem, s: &State, t: f64, step: u64, dt: f64) -
         rms_v: (v2_sum / nf).sqrt(),
         kinetic_energy: 0.5 * problem.mass * ke,
         profile,
-    }
-}
-
-/// max that keeps a NaN (f64::max drops it).
-fn nan_max(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b)
     }
 }

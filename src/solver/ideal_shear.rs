@@ -5,11 +5,11 @@
 //! reproduce the generated `KernelInfo::eps_at(t, n, Some(N))`; Figure 4 of
 //! the report overlays the two.
 
-use super::lattice::Lattice;
 use super::neighbours::NeighbourList;
 use super::step::{self, Params, State};
 use crate::kernel::Kernel;
-use crate::scene::{C0Spec, Initial, Problem, Scene, SceneError};
+use crate::problem::lattice::Lattice;
+use crate::problem::{Problem, SceneError};
 
 /// eps = rho / rho0 - 1 of a particle of each layer in `layers` (0 <= n <
 /// N), at each time in `t_over_period` (fractions of T = d N^2 / U), for N =
@@ -19,24 +19,11 @@ pub fn eps_series<K: Kernel>(
     layers: &[u32],
     t_over_period: &[f64],
 ) -> Result<Vec<Vec<f64>>, SceneError> {
-    let scene = Scene {
-        kernel: K::NAME.to_string(),
-        n_layers,
-        h_over_d: 1.0,
-        d: 1.0,
-        u: 1.0,
-        re: Some(10.0),
-        p: None,
-        // Only the density is used: c0 and the EOS play no part.
-        c0: C0Spec::Value(1.0),
-        initial: Initial::Steady,
-        ..Scene::builtin()
-    };
-    let problem = Problem::new(&scene, K::INFO)?;
+    let problem = Problem::ideal_shear(K::INFO, n_layers)?;
     let lat: Lattice = problem.lattice;
     let mut s = State::new(&lat, &problem);
     let prm = Params::new(&problem);
-    let cutoff = K::SUPPORT2_CLOSED.sqrt() * lat.h + 0.5 * problem.scene.skin * lat.h;
+    let cutoff = K::SUPPORT2_CLOSED.sqrt() * lat.h + 0.5 * problem.skin * lat.h;
     let block = lat.columns as usize;
     let period = lat.d * f64::from(n_layers).powi(2) / problem.flow.u;
     let x0: Vec<f64> = s.x.clone();

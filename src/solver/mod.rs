@@ -1,6 +1,7 @@
 //! The 2D SPH solver for plane shear (Poiseuille) flow, generic over the
-//! kernel. No I/O: [`simulate`] takes a scene and an observer and returns a
-//! [`RunResult`]; `crate::output` writes it.
+//! kernel. No I/O: [`run`] takes a resolved [`Problem`] and an observer and
+//! returns a [`RunResult`]; `crate::run` dispatches a scene to it by kernel
+//! name, `crate::output` writes it. Imports the problem and the kernel only.
 //!
 //! One step (symplectic kick-drift-kick leapfrog):
 //! 1. kick and drift: v += dt/2 a, x += dt v;
@@ -12,8 +13,8 @@
 
 mod diagnostics;
 pub mod ideal_shear;
-pub mod lattice;
 pub mod neighbours;
+mod result;
 mod step;
 
 use std::marker::PhantomData;
@@ -22,19 +23,21 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::kernel::Kernel;
-use crate::scene::{Problem, Scene, SceneError, WallVelocity};
+use crate::problem::cost::TimeStep;
+use crate::problem::Problem;
 use neighbours::{Displacements, Entry, NeighbourList};
 use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
+pub use result::{DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult};
 
 /// Useful floating-point operations of one step per directed pair within
 /// the support, given the kernel's own count for W and (dW/dq)/q
 /// (`KernelInfo::flops_per_pair`): the kernel and the distance once per
 /// pair for both directions (Newton's third law: half per directed pair),
 /// the density sum and the force terms per directed pair. Counted by hand
-/// in `step.rs`, beside each loop; padding lanes and listed pairs beyond
-/// the support are work done but not counted.
+/// in `step/density.rs` and `step/forces.rs`, beside each loop; padding
+/// lanes and listed pairs beyond the support are work done but not counted.
 pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
     0.5 * f64::from(kernel_flops + step::DENSITY_DISTANCE_FLOPS)
         + f64::from(step::DENSITY_SUM_FLOPS + force_flops_per_pair(problem))
@@ -42,12 +45,12 @@ pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
 
 /// The force pass's floating-point operations per directed pair.
 fn force_flops_per_pair(problem: &Problem) -> u32 {
-    let av = if problem.scene.alpha > 0.0 {
+    let av = if problem.has_artificial_viscosity() {
         step::FORCE_PAIR_FLOPS_AV
     } else {
         step::FORCE_PAIR_FLOPS
     };
-    let mirror = if problem.scene.wall_velocity == WallVelocity::Mirrored {
+    let mirror = if problem.mirrored_walls() {
         step::FORCE_PAIR_FLOPS_MIRROR
     } else {
         0
@@ -77,286 +80,6 @@ pub trait Observer: Send {
 /// An observer that ignores everything.
 pub struct Quiet;
 impl Observer for Quiet {}
-
-/// The time-step limit that bound a step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DtLimit {
-    /// 0.25 h / (c0 + |v|max).
-    Cfl,
-    /// 0.125 h^2 / nu.
-    Viscous,
-    /// 0.25 sqrt(h / |a|max).
-    Force,
-}
-
-impl DtLimit {
-    pub fn name(self) -> &'static str {
-        match self {
-            DtLimit::Cfl => "cfl",
-            DtLimit::Viscous => "viscous",
-            DtLimit::Force => "force",
-        }
-    }
-}
-
-/// The three limits for a state with speeds up to `v_max` and accelerations
-/// up to `a_max`, and which binds.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct TimeStep {
-    pub cfl: f64,
-    pub viscous: f64,
-    pub force: f64,
-    pub dt: f64,
-    pub limit: DtLimit,
-}
-
-impl TimeStep {
-    pub fn new(h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
-        let cfl = 0.25 * h / (c0 + v_max);
-        let viscous = 0.125 * h * h / nu;
-        let force = if a_max > 0.0 {
-            0.25 * (h / a_max).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        let (dt, limit) = [
-            (cfl, DtLimit::Cfl),
-            (viscous, DtLimit::Viscous),
-            (force, DtLimit::Force),
-        ]
-        .into_iter()
-        .fold((f64::INFINITY, DtLimit::Cfl), |best, c| {
-            if c.0 < best.0 {
-                c
-            } else {
-                best
-            }
-        });
-        TimeStep {
-            cfl,
-            viscous,
-            force,
-            dt,
-            limit,
-        }
-    }
-}
-
-/// Why a run failed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Failure {
-    /// A velocity or acceleration became NaN or infinite.
-    NotFinite,
-    /// A fluid speed exceeded the bound 10 U + c0.
-    Speed { v: f64, limit: f64 },
-    /// A fluid particle reached a wall layer (|y| >= B).
-    ThroughWall { y: f64, b: f64 },
-    /// The fluid's compaction exceeded the scene's `eps_limit`.
-    Compaction { eps: f64, limit: f64 },
-}
-
-impl std::fmt::Display for Failure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Failure::NotFinite => write!(
-                f,
-                "a velocity or acceleration is not finite (NaN or infinite)"
-            ),
-            Failure::Speed { v, limit } => write!(
-                f,
-                "a fluid speed {v:.4} exceeds the bound 10 U + c0 = {limit:.4}"
-            ),
-            Failure::ThroughWall { y, b } => {
-                write!(
-                    f,
-                    "a fluid particle reached a wall: |y| = {y:.4} >= B = {b:.4}"
-                )
-            }
-            Failure::Compaction { eps, limit } => {
-                write!(f, "the compaction eps = {eps:.4} exceeds the limit {limit}")
-            }
-        }
-    }
-}
-
-/// The fluid particle that triggered a failure, as it was when the failure
-/// was seen: the first with a non-finite value ([`Failure::NotFinite`]),
-/// the fastest ([`Failure::Speed`]), the one of largest |y|
-/// ([`Failure::ThroughWall`]) or the densest ([`Failure::Compaction`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Particle {
-    /// Index among the particles (fluid first; the order never changes).
-    pub index: usize,
-    /// The lattice layer n it started in (0 on the centre line).
-    pub layer: i32,
-    pub x: f64,
-    pub y: f64,
-    pub vx: f64,
-    pub vy: f64,
-}
-
-impl std::fmt::Display for Particle {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "fluid particle {} (started in layer {}) at x = {:.4}, y = {:.4}, velocity ({:.4}, {:.4})",
-            self.index, self.layer, self.x, self.y, self.vx, self.vy
-        )
-    }
-}
-
-/// How a run ended.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "status", rename_all = "lowercase")]
-pub enum Outcome {
-    Ok,
-    Failed {
-        failure: Failure,
-        t: f64,
-        step: u64,
-        particle: Particle,
-    },
-    /// The observer asked to stop ([`Observer::should_stop`]) after `step`.
-    Interrupted {
-        t: f64,
-        step: u64,
-    },
-}
-
-impl Outcome {
-    pub fn is_ok(&self) -> bool {
-        matches!(self, Outcome::Ok)
-    }
-
-    /// `ok`, `failed` or `interrupted`: the serialised `status`.
-    pub fn status(&self) -> &'static str {
-        match self {
-            Outcome::Ok => "ok",
-            Outcome::Failed { .. } => "failed",
-            Outcome::Interrupted { .. } => "interrupted",
-        }
-    }
-}
-
-impl std::fmt::Display for Outcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Outcome::Ok => write!(f, "ok"),
-            Outcome::Failed {
-                failure,
-                t,
-                step,
-                particle,
-            } => write!(
-                f,
-                "failed at t = {t:.6}, step {step}: {failure}; {particle}"
-            ),
-            Outcome::Interrupted { t, step } => write!(f, "interrupted at t = {t:.6}, step {step}"),
-        }
-    }
-}
-
-/// Time-step statistics over the steps not shortened to land on an output
-/// time.
-#[derive(Debug, Clone, Serialize)]
-pub struct DtStats {
-    /// The last step's dt and the limit that bound it.
-    pub last: f64,
-    pub last_limit: DtLimit,
-    pub min: f64,
-    pub max: f64,
-    /// Steps bound by each limit: cfl, viscous, force.
-    pub cfl_steps: u64,
-    pub viscous_steps: u64,
-    pub force_steps: u64,
-}
-
-impl DtStats {
-    fn new(first: &TimeStep) -> Self {
-        DtStats {
-            last: first.dt,
-            last_limit: first.limit,
-            min: f64::INFINITY,
-            max: 0.0,
-            cfl_steps: 0,
-            viscous_steps: 0,
-            force_steps: 0,
-        }
-    }
-
-    fn record(&mut self, ts: &TimeStep) {
-        self.last = ts.dt;
-        self.last_limit = ts.limit;
-        self.min = self.min.min(ts.dt);
-        self.max = self.max.max(ts.dt);
-        match ts.limit {
-            DtLimit::Cfl => self.cfl_steps += 1,
-            DtLimit::Viscous => self.viscous_steps += 1,
-            DtLimit::Force => self.force_steps += 1,
-        }
-    }
-
-    /// The limit that bound the most steps.
-    pub fn dominant(&self) -> DtLimit {
-        let counts = [
-            (self.cfl_steps, DtLimit::Cfl),
-            (self.viscous_steps, DtLimit::Viscous),
-            (self.force_steps, DtLimit::Force),
-        ];
-        counts
-            .iter()
-            .max_by_key(|c| c.0)
-            .map(|c| c.1)
-            .unwrap_or(self.last_limit)
-    }
-}
-
-/// Everything a run produced.
-#[derive(Debug, Clone, Serialize)]
-pub struct RunResult {
-    pub problem: Problem,
-    pub kernel: &'static str,
-    pub n_fluid: usize,
-    pub n_wall: usize,
-    pub steps: u64,
-    /// Time reached (t_end unless the run failed or was stopped).
-    pub t: f64,
-    pub dt: DtStats,
-    pub outcome: Outcome,
-    /// Diagnostics at t = 0, every output time, and at a failure.
-    pub samples: Vec<Sample>,
-    /// Largest fluid compaction over every step.
-    pub max_eps_run: f64,
-    pub neighbour_rebuilds: u64,
-    /// Mean listed neighbours per particle (R h + skin).
-    pub mean_neighbours: f64,
-    /// Wall-clock seconds of the simulation.
-    pub wall_s: f64,
-}
-
-impl RunResult {
-    /// The last diagnostics sample.
-    pub fn last(&self) -> &Sample {
-        self.samples.last().expect("a run has its t = 0 sample")
-    }
-}
-
-/// Resolve `scene` for kernel `K` and run it.
-pub fn simulate<K: Kernel>(
-    scene: &Scene,
-    observer: &mut dyn Observer,
-) -> Result<RunResult, SceneError> {
-    if scene.kernel != K::NAME {
-        return Err(SceneError::KernelMismatch {
-            scene: scene.kernel.clone(),
-            solver: K::NAME,
-        });
-    }
-    let problem = Problem::new(scene, K::INFO)?;
-    Ok(run::<K>(&problem, observer))
-}
 
 /// Run a resolved problem with kernel `K` on the current rayon pool.
 pub fn run<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
@@ -394,7 +117,7 @@ impl<'p> Sim<'p> {
         let h = lat.h;
         let mut s = State::new(&lat, problem);
         let prm = Params::new(problem);
-        let skin = problem.scene.skin * h;
+        let skin = problem.skin * h;
         let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
         // Blocks for the rebuild rule: the lattice layers, stored in turn.
         let block = lat.columns as usize;
@@ -465,10 +188,10 @@ impl<'p> Sim<'p> {
                 y: check.max_abs_y,
                 b,
             })
-        } else if self.max_eps > p.scene.eps_limit {
+        } else if self.max_eps > p.eps_limit {
             Some(Failure::Compaction {
                 eps: self.max_eps,
-                limit: p.scene.eps_limit,
+                limit: p.eps_limit,
             })
         } else {
             None

@@ -465,7 +465,7 @@ fn bin_of(y: f64, ymin: f64, cutoff: f64, n_bins: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::lattice::Lattice;
+    use crate::problem::lattice::Lattice;
 
     /// Brute force over all pairs and images.
     fn brute(x: &[f64], y: &[f64], width: f64, cutoff: f64, i: usize) -> Vec<(u32, i8)> {
@@ -543,7 +543,7 @@ mod tests {
 #[cfg(test)]
 mod stale_tests {
     use super::*;
-    use crate::solver::lattice::Lattice;
+    use crate::problem::lattice::Lattice;
 
     #[test]
     fn shear_between_near_layers_triggers_a_rebuild() {

@@ -16,7 +16,12 @@
 //! ignored and dropped on resume); `results.csv` is rewritten atomically from
 //! it when the sweep ends or stops.
 
+mod grid;
+mod row;
 pub mod store;
+
+pub use grid::{Point, PointC0, Shard, SweepSpec};
+pub use row::{classify, Row};
 
 use std::collections::BTreeSet;
 use std::fmt;
@@ -25,15 +30,17 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
-use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
-use crate::kernels;
-use crate::output::Summary;
-use crate::scene::{c0_by_rule, C0Spec, Problem, Scene, SceneError};
-use crate::solver::{self, Observer, RunResult, TimeStep};
+use crate::config::{C0Spec, Scene, SceneError};
+use crate::kernel::KernelInfo;
+use crate::problem::c0;
+use crate::problem::channel::Channel;
+use crate::problem::cost::Estimate;
+use crate::problem::Problem;
+use crate::solver::{self, FailureKind, Observer};
 
 /// What makes a run `inaccurate` or `over-compressed`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -115,475 +122,6 @@ impl fmt::Display for Class {
     }
 }
 
-/// A point's sound speed: a rule in scene syntax (`derived`, `0.5*rule10`,
-/// a number) or a multiple of U.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PointC0 {
-    Spec(C0Spec),
-    OverU(f64),
-}
-
-impl fmt::Display for PointC0 {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            PointC0::Spec(s) => write!(f, "{s}"),
-            PointC0::OverU(x) => write!(f, "{x}U"),
-        }
-    }
-}
-
-/// One scene of a sweep.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Point {
-    /// Position in the whole grid (before sharding).
-    pub index: usize,
-    pub kernel: String,
-    pub n: u32,
-    pub re: f64,
-    pub alpha: f64,
-    pub c0: PointC0,
-}
-
-impl Point {
-    /// The stable key of this point: the same grid values give the same id.
-    pub fn id(&self) -> String {
-        format!(
-            "{}/n={}/re={}/alpha={}/c0={}",
-            self.kernel, self.n, self.re, self.alpha, self.c0
-        )
-    }
-
-    /// The scene: the built-in one, `base` over it, then this point's values.
-    pub fn scene(&self, base: &toml::Table) -> Result<Scene, SceneError> {
-        use toml::Value;
-        let mut over = base.clone();
-        over.remove("c0");
-        over.insert("kernel".into(), Value::String(self.kernel.clone()));
-        over.insert("n_layers".into(), Value::Integer(self.n.into()));
-        over.remove("p");
-        over.insert("re".into(), Value::Float(self.re));
-        over.insert("alpha".into(), Value::Float(self.alpha));
-        let mut scene = Scene::load(None, over)?;
-        scene.c0 = match &self.c0 {
-            PointC0::Spec(s) => s.clone(),
-            PointC0::OverU(x) => C0Spec::Value(x * scene.u),
-        };
-        Ok(scene)
-    }
-}
-
-/// A sweep as written in a sweep file (TOML) or given by flags: the grid, the
-/// base scene and the class rules. Its canonical form is stored as
-/// `sweep.toml` in the output folder and identifies the sweep on resume and
-/// merge.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SweepSpec {
-    /// Kernel names; empty means every kernel.
-    #[serde(default)]
-    pub kernels: Vec<String>,
-    #[serde(default = "default_n")]
-    pub n: Vec<u32>,
-    #[serde(default = "default_re")]
-    pub re: Vec<f64>,
-    #[serde(default = "default_alpha")]
-    pub alpha: Vec<f64>,
-    /// Sound speeds as rules in scene syntax (`derived`, `derived:MODEL`,
-    /// `rule10`, `table2`, `0.5*derived`, a number).
-    #[serde(default)]
-    pub c0: Vec<String>,
-    /// Sound speeds as multiples of U.
-    #[serde(default)]
-    pub c0_over_u: Vec<f64>,
-    #[serde(default)]
-    pub classes: ClassRules,
-    /// Scene fields laid over the built-in scene for every point (e.g.
-    /// `decay_tol`, `initial`, `u`); the grid's fields win.
-    #[serde(default)]
-    pub scene: toml::Table,
-}
-
-fn default_n() -> Vec<u32> {
-    vec![10]
-}
-fn default_re() -> Vec<f64> {
-    vec![1.0, 30.0]
-}
-fn default_alpha() -> Vec<f64> {
-    vec![crate::scene::DEFAULT_ALPHA]
-}
-
-impl Default for SweepSpec {
-    fn default() -> Self {
-        toml::from_str("").expect("the empty sweep is valid")
-    }
-}
-
-impl SweepSpec {
-    pub fn from_toml(text: &str, origin: &str) -> Result<SweepSpec> {
-        toml::from_str(text).map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))
-    }
-
-    pub fn to_toml(&self) -> String {
-        toml::to_string(self).expect("a sweep serialises")
-    }
-
-    /// Fill the defaults (every kernel; derived, rule10 and table2 when no
-    /// c0 is given) and check every value, so that the stored form is
-    /// complete and a bad grid fails before anything runs.
-    pub fn resolved(mut self) -> Result<SweepSpec> {
-        if self.kernels.is_empty() {
-            self.kernels = kernels::NAMES.iter().map(|s| s.to_string()).collect();
-        }
-        if self.c0.is_empty() && self.c0_over_u.is_empty() {
-            self.c0 = vec!["derived".into(), "rule10".into(), "table2".into()];
-        }
-        for k in &self.kernels {
-            crate::scene::kernel_info(k)?;
-        }
-        for c in &self.c0 {
-            c.parse::<C0Spec>()
-                .map_err(|e| anyhow::anyhow!("sweep field `c0`: {e}"))?;
-        }
-        let check = |field: &str, empty: bool| -> Result<()> {
-            if empty {
-                bail!("sweep field `{field}` is empty: give at least one value");
-            }
-            Ok(())
-        };
-        check("n", self.n.is_empty())?;
-        check("re", self.re.is_empty())?;
-        check("alpha", self.alpha.is_empty())?;
-        for (field, values) in [("re", &self.re), ("c0_over_u", &self.c0_over_u)] {
-            if let Some(v) = values.iter().find(|v| !(**v > 0.0 && v.is_finite())) {
-                bail!("sweep field `{field}`: {v} must be a positive number");
-            }
-        }
-        if let Some(v) = self.alpha.iter().find(|v| !(0.0..=1.0).contains(*v)) {
-            bail!("sweep field `alpha`: {v} is outside [0, 1]");
-        }
-        for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
-            if self.scene.contains_key(key) {
-                bail!(
-                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own list \
-                     (kernels, n, re, alpha, c0 or c0_over_u) instead"
-                );
-            }
-        }
-        // The base scene must be a valid scene by itself.
-        Scene::load(None, self.scene.clone())
-            .context("sweep field `scene` does not make a valid scene")?;
-        Ok(self)
-    }
-
-    /// Every point of the grid, in grid order (kernel, N, Re, alpha, c0).
-    pub fn points(&self) -> Vec<Point> {
-        let mut c0s: Vec<PointC0> = self
-            .c0
-            .iter()
-            .map(|c| PointC0::Spec(c.parse().expect("checked by resolved()")))
-            .collect();
-        c0s.extend(self.c0_over_u.iter().map(|&x| PointC0::OverU(x)));
-        let mut out = Vec::new();
-        for kernel in &self.kernels {
-            for &n in &self.n {
-                for &re in &self.re {
-                    for &alpha in &self.alpha {
-                        for c0 in &c0s {
-                            out.push(Point {
-                                index: out.len(),
-                                kernel: kernel.clone(),
-                                n,
-                                re,
-                                alpha,
-                                c0: c0.clone(),
-                            });
-                        }
-                    }
-                }
-            }
-        }
-        out
-    }
-}
-
-/// `--shard k/n`: run only the points whose grid index is k modulo n
-/// (0 <= k < n), so n independent jobs cover the sweep.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    pub k: usize,
-    pub n: usize,
-}
-
-impl std::str::FromStr for Shard {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        if s.trim() == "auto" {
-            return Shard::from_slurm(|v| std::env::var(v).ok());
-        }
-        let bad = || {
-            format!("bad shard {s:?}: expected K/N with 0 <= K < N, e.g. 0/4 (Slurm: $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)")
-        };
-        let (k, n) = s.split_once('/').ok_or_else(bad)?;
-        let (k, n): (usize, usize) = (
-            k.trim().parse().map_err(|_| bad())?,
-            n.trim().parse().map_err(|_| bad())?,
-        );
-        if n == 0 || k >= n {
-            return Err(bad());
-        }
-        Ok(Shard { k, n })
-    }
-}
-
-impl Shard {
-    /// `--shard auto`: this task's shard of a Slurm job array, k = (ID - MIN)
-    /// / STEP of n = COUNT, from SLURM_ARRAY_TASK_ID, _COUNT, _MIN and
-    /// (optional) _STEP as `var` gives them. Every missing or malformed
-    /// variable is named.
-    pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Result<Shard, String> {
-        let get = |name: &str, required: bool| -> Result<Option<usize>, String> {
-            match var(name) {
-                None if required => Err(format!(
-                    "--shard auto: {name} is not set: run inside a Slurm job array (sbatch --array=0-3), or give --shard K/N"
-                )),
-                None => Ok(None),
-                Some(v) => v.trim().parse::<usize>().map(Some).map_err(|_| {
-                    format!("--shard auto: {name}={v:?} is not a non-negative whole number")
-                }),
-            }
-        };
-        let id = get("SLURM_ARRAY_TASK_ID", true)?.unwrap_or_default();
-        let count = get("SLURM_ARRAY_TASK_COUNT", true)?.unwrap_or_default();
-        let min = get("SLURM_ARRAY_TASK_MIN", true)?.unwrap_or_default();
-        let step = get("SLURM_ARRAY_TASK_STEP", false)?.unwrap_or(1);
-        if count == 0 || step == 0 {
-            return Err(format!(
-                "--shard auto: SLURM_ARRAY_TASK_COUNT={count} and SLURM_ARRAY_TASK_STEP={step} must be positive"
-            ));
-        }
-        if id < min || (id - min) % step != 0 || (id - min) / step >= count {
-            return Err(format!(
-                "--shard auto: task {id} is not one of {count} evenly spaced tasks from {min} by {step} \
-                 (SLURM_ARRAY_TASK_ID, _MIN, _STEP, _COUNT): submit a contiguous array such as --array=0-{}",
-                count - 1
-            ));
-        }
-        Ok(Shard {
-            k: (id - min) / step,
-            n: count,
-        })
-    }
-
-    pub fn contains(&self, index: usize) -> bool {
-        index % self.n == self.k
-    }
-}
-
-/// One finished point: what was run and what came of it. Non-finite numbers
-/// are written as JSON `null` and read back as NaN.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Row {
-    /// Position in the whole grid.
-    pub index: usize,
-    pub id: String,
-    pub kernel: String,
-    pub n: u32,
-    #[serde(with = "nan_null")]
-    pub re: f64,
-    #[serde(with = "nan_null")]
-    pub alpha: f64,
-    /// The c0 as gridded: a rule (`derived`, `rule10`, `0.5*table2`), a
-    /// number, or a multiple of U (`3U`).
-    pub c0_spec: String,
-    /// The rule it resolved to (`derived:field-av`, `rule10`, `table2`,
-    /// `value`), with the model named.
-    pub c0_rule: String,
-    /// The sound speed (NaN when the rule gives none).
-    #[serde(with = "nan_null")]
-    pub c0: f64,
-    #[serde(with = "nan_null")]
-    pub c0_over_u: f64,
-    pub class: Class,
-    /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
-    /// scene is invalid), `panic`, or the solver's failure kind
-    /// (`not_finite`, `speed`, `through_wall`, `compaction`).
-    pub failure_kind: Option<String>,
-    pub failure_reason: Option<String>,
-    /// L_inf and L2 errors of the layer-mean velocity / U at t_end, and the
-    /// worst L_inf over the output times (what `inaccurate` is judged by).
-    #[serde(with = "nan_null")]
-    pub linf: f64,
-    #[serde(with = "nan_null")]
-    pub linf_max: f64,
-    #[serde(with = "nan_null")]
-    pub l2: f64,
-    /// Largest fluid compaction over the run, and the bound for `over-compressed`.
-    #[serde(with = "nan_null")]
-    pub max_eps: f64,
-    #[serde(with = "nan_null")]
-    pub eps_bound: f64,
-    /// RMS transverse velocity / U at the end.
-    #[serde(with = "nan_null")]
-    pub rms_v: f64,
-    pub steps: u64,
-    /// The time-step limit that bound the most steps (`cfl`, `viscous`,
-    /// `force`), and the last full step.
-    pub dt_limit: Option<String>,
-    #[serde(with = "nan_null")]
-    pub dt: f64,
-    /// Fluid and wall particles.
-    pub particles: usize,
-    /// particles x steps: the work, independent of the machine.
-    pub particle_steps: f64,
-    #[serde(with = "nan_null")]
-    pub t_end: f64,
-    /// Time reached.
-    #[serde(with = "nan_null")]
-    pub t: f64,
-    /// Wall-clock seconds of the simulation.
-    #[serde(with = "nan_null")]
-    pub wall_s: f64,
-}
-
-/// f64 fields in JSON: non-finite values as `null`, `null` read as NaN.
-mod nan_null {
-    use serde::{Deserialize, Deserializer, Serializer};
-    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        if v.is_finite() {
-            s.serialize_f64(*v)
-        } else {
-            s.serialize_none()
-        }
-    }
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-    }
-}
-
-impl Row {
-    /// A row for a point that did not run (no c0, invalid scene, panic).
-    fn not_run(point: &Point, kind: &str, reason: String, c0: f64, c0_rule: String) -> Row {
-        Row {
-            index: point.index,
-            id: point.id(),
-            kernel: point.kernel.clone(),
-            n: point.n,
-            re: point.re,
-            alpha: point.alpha,
-            c0_spec: point.c0.to_string(),
-            c0_rule,
-            c0,
-            c0_over_u: f64::NAN,
-            class: Class::Failed,
-            failure_kind: Some(kind.to_string()),
-            failure_reason: Some(reason),
-            linf: f64::NAN,
-            linf_max: f64::NAN,
-            l2: f64::NAN,
-            max_eps: f64::NAN,
-            eps_bound: f64::NAN,
-            rms_v: f64::NAN,
-            steps: 0,
-            dt_limit: None,
-            dt: f64::NAN,
-            particles: 0,
-            particle_steps: 0.0,
-            t_end: f64::NAN,
-            t: 0.0,
-            wall_s: 0.0,
-        }
-    }
-
-    /// The row of a finished run, classified by `rules`.
-    pub fn from_run(point: &Point, r: &RunResult, rules: &ClassRules) -> Row {
-        let s = Summary::new(r);
-        let eps_bound = rules.eps_bound(r.problem.kernel);
-        let (class, failure_kind) = match &r.outcome {
-            solver::Outcome::Failed { failure, .. } => {
-                let kind = serde_json::to_value(failure)
-                    .ok()
-                    .and_then(|v| v["kind"].as_str().map(str::to_string))
-                    .unwrap_or_else(|| "failed".into());
-                (Class::Failed, Some(kind))
-            }
-            solver::Outcome::Ok => (
-                classify(s.linf_rel_err_max, s.max_eps, rules.linf_bound, eps_bound),
-                None,
-            ),
-            // [`run_point`] keeps no row of a stopped run (it is rerun on
-            // resume); a row made of one anyway does not pass for a result.
-            solver::Outcome::Interrupted { .. } => (Class::Failed, Some("interrupted".into())),
-        };
-        let failure_reason = match class {
-            Class::Failed => Some(
-                s.failure_reason
-                    .clone()
-                    .map(|r| format!("{r} (t = {:.4})", s.failure_t.unwrap_or(f64::NAN)))
-                    .unwrap_or_else(|| "the velocity error is not finite".into()),
-            ),
-            _ => None,
-        };
-        let failure_kind = match (class, failure_kind) {
-            (Class::Failed, None) => Some("not_finite".into()),
-            (_, k) => k,
-        };
-        Row {
-            index: point.index,
-            id: point.id(),
-            kernel: s.kernel.clone(),
-            n: s.n_layers,
-            re: point.re,
-            alpha: s.alpha,
-            c0_spec: point.c0.to_string(),
-            c0_rule: s.c0_rule.clone(),
-            c0: s.c0,
-            c0_over_u: s.c0 / s.u,
-            class,
-            failure_kind,
-            failure_reason,
-            linf: s.linf_rel_err,
-            linf_max: s.linf_rel_err_max,
-            l2: s.l2_rel_err,
-            max_eps: s.max_eps,
-            eps_bound,
-            rms_v: s.rms_v / s.u,
-            steps: s.steps,
-            dt_limit: Some(r.dt.dominant().name().to_string()),
-            dt: s.dt,
-            particles: s.particles,
-            particle_steps: s.particles as f64 * s.steps as f64,
-            t_end: s.t_end,
-            t: s.t,
-            wall_s: s.wall_s,
-        }
-    }
-
-    /// The row as JSON with the wall-clock time left out: what two runs of
-    /// the same point agree on.
-    pub fn without_timing(&self) -> serde_json::Value {
-        let mut v = serde_json::to_value(self).expect("a row serialises");
-        v.as_object_mut()
-            .expect("a row is an object")
-            .remove("wall_s");
-        v
-    }
-}
-
-/// The class of a run that did not fail: over-compressed before inaccurate
-/// (a compacted lattice is the worse fault), NaN errors count as failed.
-pub fn classify(linf_max: f64, max_eps: f64, linf_bound: f64, eps_bound: f64) -> Class {
-    if !(linf_max.is_finite() && max_eps.is_finite()) {
-        Class::Failed
-    } else if max_eps > eps_bound {
-        Class::OverCompressed
-    } else if linf_max > linf_bound {
-        Class::Inaccurate
-    } else {
-        Class::Ok
-    }
-}
-
 /// Hands the stop flag to a running scene, which ends at the next step as
 /// [`solver::Outcome::Interrupted`]; [`run_point`] then drops it whole.
 struct StopWatch<'a> {
@@ -594,22 +132,6 @@ impl Observer for StopWatch<'_> {
     fn should_stop(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
     }
-}
-
-fn simulate_by_name(scene: &Scene, observer: &mut dyn Observer) -> Result<RunResult, SceneError> {
-    struct Visit<'a> {
-        scene: &'a Scene,
-        observer: &'a mut dyn Observer,
-    }
-    impl KernelVisitor for Visit<'_> {
-        type Output = Result<RunResult, SceneError>;
-        fn visit<K: Kernel>(self) -> Self::Output {
-            solver::simulate::<K>(self.scene, self.observer)
-        }
-    }
-    crate::scene::kernel_info(&scene.kernel)?;
-    kernels::with_kernel(&scene.kernel, Visit { scene, observer })
-        .expect("the registry runs every kernel it lists")
 }
 
 /// Run one point on the current thread (and rayon pool). `None` when the
@@ -628,7 +150,7 @@ pub fn run_point(
         Err(e) => {
             return Some(Row::not_run(
                 point,
-                "scene",
+                FailureKind::Scene,
                 e.to_string(),
                 f64::NAN,
                 String::new(),
@@ -640,20 +162,20 @@ pub fn run_point(
         Err(e) => {
             return Some(Row::not_run(
                 point,
-                "scene",
+                FailureKind::Scene,
                 e.to_string(),
                 f64::NAN,
                 String::new(),
             ))
         }
     };
-    if let Err(e) = Problem::new(&scene, info) {
+    if let Err(e) = Problem::resolve(&scene, info) {
         let (c0, rule) = c0_of(&scene, info);
         let kind = match &e {
-            SceneError::Invalid { field: "c0", .. } => "no_c0",
-            _ => "scene",
+            SceneError::Invalid { field: "c0", .. } => FailureKind::NoC0,
+            _ => FailureKind::Scene,
         };
-        let reason = if kind == "no_c0" && !rule.is_empty() {
+        let reason = if kind == FailureKind::NoC0 && !rule.is_empty() {
             format!("{rule} gives c0 = {c0:.6}: no positive root for this scene")
         } else {
             e.to_string()
@@ -664,14 +186,16 @@ pub fn run_point(
     }
     let mut watch = StopWatch { stop };
     // A panic in the solver is a bug, but it costs one row, not the sweep.
-    let result = panic::catch_unwind(AssertUnwindSafe(|| simulate_by_name(&scene, &mut watch)));
+    let result = panic::catch_unwind(AssertUnwindSafe(|| {
+        crate::run::run_scene(&scene, &mut watch)
+    }));
     match result {
         // Stopped before the end: no row, so a resumed sweep reruns it.
         Ok(Ok(r)) if matches!(r.outcome, solver::Outcome::Interrupted { .. }) => None,
         Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
         Ok(Err(e)) => Some(Row::not_run(
             point,
-            "scene",
+            FailureKind::Scene,
             e.to_string(),
             f64::NAN,
             String::new(),
@@ -684,7 +208,7 @@ pub fn run_point(
                 .unwrap_or_else(|| "unknown".into());
             Some(Row::not_run(
                 point,
-                "panic",
+                FailureKind::Panic,
                 format!("the solver panicked: {msg}"),
                 f64::NAN,
                 String::new(),
@@ -693,32 +217,16 @@ pub fn run_point(
     }
 }
 
-/// The c0 a scene's rule gives (for the record when it is not positive).
+/// The c0 a scene's spec gives (for the record when it is not positive).
 fn c0_of(scene: &Scene, info: &'static KernelInfo) -> (f64, String) {
-    let C0Spec::Rule { factor, rule } = &scene.c0 else {
-        let C0Spec::Value(v) = scene.c0 else {
-            unreachable!()
-        };
-        return (v, "value".into());
+    let fallback = || match &scene.c0 {
+        C0Spec::Value(v) => (*v, "value".to_string()),
+        C0Spec::Rule { rule, .. } => (f64::NAN, rule.to_string()),
     };
-    let probe = Scene {
-        c0: C0Spec::Value(1.0),
-        ..scene.clone()
+    let Ok(channel) = Channel::resolve(scene, info) else {
+        return fallback();
     };
-    let Ok(problem) = Problem::new(&probe, info) else {
-        return (f64::NAN, rule.to_string());
-    };
-    match c0_by_rule(rule, info, scene, &problem.flow) {
-        Ok((c0, name)) => {
-            let name = if *factor == 1.0 {
-                name
-            } else {
-                format!("{factor}*{name}")
-            };
-            (factor * c0, name)
-        }
-        Err(_) => (f64::NAN, rule.to_string()),
-    }
+    c0::by_spec(&scene.c0, info, &channel, scene.alpha).unwrap_or_else(|_| fallback())
 }
 
 /// Estimated work of a point (particles x steps at the starting time step),
@@ -730,11 +238,11 @@ pub fn estimated_cost(point: &Point, base: &toml::Table) -> f64 {
     let Ok(info) = scene.kernel_info() else {
         return 0.0;
     };
-    let Ok(p) = Problem::new(&scene, info) else {
+    let Ok(p) = Problem::resolve(&scene, info) else {
         return 0.0;
     };
-    let ts = TimeStep::new(p.lattice.h, p.c0, p.flow.nu, p.flow.u, p.flow.p);
-    p.lattice.n_particles() as f64 * (p.t_end / ts.dt).ceil()
+    let channel = p.channel();
+    Estimate::new(&channel, p.c0, p.t_end).particle_steps(&channel)
 }
 
 /// How to run many scenes.
@@ -941,93 +449,6 @@ mod tests {
         for bad in ["3/3", "1", "a/2", "0/0", "-1/2"] {
             assert!(bad.parse::<Shard>().is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn shard_auto_reads_the_slurm_array() {
-        let env = |pairs: &'static [(&'static str, &'static str)]| {
-            move |v: &str| {
-                pairs
-                    .iter()
-                    .find(|(k, _)| *k == v)
-                    .map(|(_, x)| x.to_string())
-            }
-        };
-        let s = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "7"),
-            ("SLURM_ARRAY_TASK_COUNT", "4"),
-            ("SLURM_ARRAY_TASK_MIN", "5"),
-        ]))
-        .unwrap();
-        assert_eq!((s.k, s.n), (2, 4), "k = ID - MIN");
-        let s = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "4"),
-            ("SLURM_ARRAY_TASK_COUNT", "3"),
-            ("SLURM_ARRAY_TASK_MIN", "0"),
-            ("SLURM_ARRAY_TASK_STEP", "2"),
-        ]))
-        .unwrap();
-        assert_eq!((s.k, s.n), (2, 3), "--array=0-4:2");
-        // each missing variable is named
-        for (missing, pairs) in [
-            (
-                "SLURM_ARRAY_TASK_ID",
-                &[
-                    ("SLURM_ARRAY_TASK_COUNT", "4"),
-                    ("SLURM_ARRAY_TASK_MIN", "0"),
-                ][..],
-            ),
-            (
-                "SLURM_ARRAY_TASK_COUNT",
-                &[("SLURM_ARRAY_TASK_ID", "1"), ("SLURM_ARRAY_TASK_MIN", "0")][..],
-            ),
-            (
-                "SLURM_ARRAY_TASK_MIN",
-                &[
-                    ("SLURM_ARRAY_TASK_ID", "1"),
-                    ("SLURM_ARRAY_TASK_COUNT", "4"),
-                ][..],
-            ),
-        ] {
-            let e = Shard::from_slurm(|v: &str| {
-                pairs
-                    .iter()
-                    .find(|(k, _)| *k == v)
-                    .map(|(_, x)| x.to_string())
-            })
-            .unwrap_err();
-            assert!(e.contains(&format!("{missing} is not set")), "{e}");
-        }
-        // malformed, and outside the array
-        let e = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "x1"),
-            ("SLURM_ARRAY_TASK_COUNT", "4"),
-            ("SLURM_ARRAY_TASK_MIN", "0"),
-        ]))
-        .unwrap_err();
-        assert!(e.contains("SLURM_ARRAY_TASK_ID=\"x1\" is not"), "{e}");
-        let e = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "-1"),
-            ("SLURM_ARRAY_TASK_COUNT", "4"),
-            ("SLURM_ARRAY_TASK_MIN", "0"),
-        ]))
-        .unwrap_err();
-        assert!(e.contains("SLURM_ARRAY_TASK_ID"), "{e}");
-        // a list array (--array=1,5,7) is not evenly spaced
-        let e = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "7"),
-            ("SLURM_ARRAY_TASK_COUNT", "3"),
-            ("SLURM_ARRAY_TASK_MIN", "1"),
-        ]))
-        .unwrap_err();
-        assert!(e.contains("contiguous array such as --array=0-2"), "{e}");
-        let e = Shard::from_slurm(env(&[
-            ("SLURM_ARRAY_TASK_ID", "0"),
-            ("SLURM_ARRAY_TASK_COUNT", "0"),
-            ("SLURM_ARRAY_TASK_MIN", "0"),
-        ]))
-        .unwrap_err();
-        assert!(e.contains("must be positive"), "{e}");
     }
 
     #[test]

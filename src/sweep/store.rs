@@ -110,7 +110,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "eps_bound",
     "rms_v",
     "steps",
-    "dt_limit",
+    "dt_limit_dominant",
     "dt",
     "particles",
     "particle_steps",
@@ -133,7 +133,10 @@ fn csv_fields(r: &Row) -> Vec<String> {
         f(r.c0),
         f(r.c0_over_u),
         r.class.to_string(),
-        r.failure_kind.clone().unwrap_or_default(),
+        r.failure_kind
+            .map(|k| k.name())
+            .unwrap_or_default()
+            .to_string(),
         r.failure_reason.clone().unwrap_or_default(),
         f(r.linf),
         f(r.linf_max),
@@ -142,7 +145,10 @@ fn csv_fields(r: &Row) -> Vec<String> {
         f(r.eps_bound),
         f(r.rms_v),
         r.steps.to_string(),
-        r.dt_limit.clone().unwrap_or_default(),
+        r.dt_limit_dominant
+            .map(|l| l.name())
+            .unwrap_or_default()
+            .to_string(),
         f(r.dt),
         r.particles.to_string(),
         f(r.particle_steps),

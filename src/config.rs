@@ -1,9 +1,10 @@
-//! A scene fixes one run: the kernel, the lattice, the flow, the sound speed
-//! c0 (a number or a rule), the start and the end. It is read from TOML (the
-//! embedded default, then a scene file, then flags, each overriding field by
-//! field) and resolved against the kernel into a [`Problem`], the numbers the
+//! The configuration layer, the lowest of `src/`: a scene fixes one run (the
+//! kernel, the lattice, the flow, the sound speed c0 as a number or a typed
+//! rule, the start and the end). It is read from TOML (the embedded default,
+//! then a scene file, then flags, each overriding field by field) and
+//! resolved against the kernel by `crate::problem` into the numbers the
 //! solver uses. Every invalid value gets an error naming the field, its flag
-//! and the fix.
+//! and the fix. Imports nothing from the problem, the solver or above.
 
 use std::fmt;
 use std::path::Path;
@@ -11,10 +12,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::analytic::Poiseuille;
 use crate::kernel::KernelInfo;
 use crate::kernels;
-use crate::solver::lattice::Lattice;
 
 /// The built-in scene (src/default_scene.toml).
 pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
@@ -106,11 +105,6 @@ pub struct Scene {
 fn default_max_run_s() -> f64 {
     3600.0
 }
-
-/// Seconds per pair evaluation assumed by the run-time estimate: the
-/// solver's measured cost (about 8 ns per listed pair and pass for the cubic
-/// spline, both passes) rounded up, so the estimate errs long.
-pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 
 fn one() -> f64 {
     1.0
@@ -319,8 +313,6 @@ pub enum SceneError {
     UnknownKernel { name: String, known: String },
     #[error("{origin}: {message}")]
     Read { origin: String, message: String },
-    #[error("the scene names kernel {scene:?} but the solver was built for {solver:?}")]
-    KernelMismatch { scene: String, solver: &'static str },
 }
 
 /// The flag that sets a scene field.
@@ -340,7 +332,7 @@ fn flag_of(field: &'static str) -> &'static str {
     }
 }
 
-fn invalid(field: &'static str, message: impl Into<String>) -> SceneError {
+pub(crate) fn invalid(field: &'static str, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         field,
         flag: flag_of(field),
@@ -445,182 +437,8 @@ pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
     })
 }
 
-/// "3.2 s", "1.5 h", "2.1 days".
-fn human_seconds(s: f64) -> String {
-    if s < 120.0 {
-        format!("{s:.1} s")
-    } else if s < 7200.0 {
-        format!("{:.1} min", s / 60.0)
-    } else if s < 172_800.0 {
-        format!("{:.1} h", s / 3600.0)
-    } else {
-        format!("{:.1} days", s / 86400.0)
-    }
-}
-
-/// A scene resolved against its kernel: every number the solver uses.
-#[derive(Debug, Clone, Serialize)]
-pub struct Problem {
-    pub scene: Scene,
-    #[serde(skip)]
-    pub kernel: &'static KernelInfo,
-    pub lattice: Lattice,
-    /// Walls at y = ±B, U, nu and p.
-    pub flow: Poiseuille,
-    pub re: f64,
-    pub rho0: f64,
-    /// Particle mass (sqrt 3 / 2) d^2 rho0 (11).
-    pub mass: f64,
-    /// Dynamic viscosity rho0 nu (10).
-    pub mu: f64,
-    pub c0: f64,
-    /// The rule c0 came from, in scene syntax with the model named
-    /// (e.g. `0.5*derived:full`), or `value`.
-    pub c0_rule: String,
-    pub t_end: f64,
-    pub output_interval: f64,
-    pub initial: Initial,
-    /// A run fails when a fluid speed exceeds 10 U + c0: no flow of this
-    /// problem comes near it (the flow is at most U, the acoustic pulsation a
-    /// fraction of c0).
-    pub v_limit: f64,
-}
-
-impl Problem {
-    /// Check the scene and compute everything the solver needs for kernel
-    /// `info`.
-    pub fn new(scene: &Scene, info: &'static KernelInfo) -> Result<Problem, SceneError> {
-        positive("d", scene.d)?;
-        positive("h_over_d", scene.h_over_d)?;
-        positive("u", scene.u)?;
-        positive("rho0", scene.rho0)?;
-        positive("decay_tol", scene.decay_tol)?;
-        positive("eps_limit", scene.eps_limit)?;
-        if !(0.0..0.5).contains(&scene.jitter) {
-            return Err(invalid(
-                "jitter",
-                format!("{} (in d) must be in [0, 0.5)", scene.jitter),
-            ));
-        }
-        if !(0.0..=1.0).contains(&scene.alpha) {
-            return Err(invalid(
-                "alpha",
-                format!(
-                    "{} is outside [0, 1]; the paper takes alpha in (0, 0.25)",
-                    scene.alpha
-                ),
-            ));
-        }
-        if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
-            return Err(invalid(
-                "gamma",
-                format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma),
-            ));
-        }
-        let d = scene.d;
-        let h = scene.h_over_d * d;
-        let support = info.support;
-        if !(scene.skin > 0.0 && scene.skin < support) {
-            return Err(invalid(
-                "skin",
-                format!(
-                    "{} (in h) must be in (0, R) = (0, {support}) for kernel {}",
-                    scene.skin, info.name
-                ),
-            ));
-        }
-        let lattice = Lattice::new(scene.n_layers, d, h, support);
-        // The centre line's support must not reach the wall (closed support).
-        let n_min = (support * h * (1.0 + 1e-9) / lattice.dy).floor() as u32 + 1;
-        if scene.n_layers < n_min {
-            return Err(invalid(
-                "n_layers",
-                format!(
-                    "{} is too small for kernel {} (support R = {support}, h = {} d): the centre layer's \
-                     support reaches the wall; use n_layers >= {n_min}",
-                    scene.n_layers, info.name, scene.h_over_d
-                ),
-            ));
-        }
-        let b = lattice.b();
-        let flow = match (scene.re, scene.p) {
-            (Some(_), Some(_)) => {
-                return Err(invalid(
-                    "re",
-                    "both `re` and `p` are given; they fix the same thing: keep one",
-                ));
-            }
-            (None, None) => return Err(invalid("re", "give `re` (or `p`, the body force)")),
-            (Some(re), None) => {
-                positive("re", re)?;
-                Poiseuille::from_re(scene.u, b, re)
-            }
-            (None, Some(p)) => {
-                positive("p", p)?;
-                Poiseuille::from_p(scene.u, b, p)
-            }
-        };
-        let (c0, c0_rule) = resolve_c0(&scene.c0, info, scene, &flow)?;
-        let t_end = match scene.t_end {
-            Some(t) => {
-                positive("t_end", t)?;
-                t
-            }
-            None => flow.decay_time(scene.decay_tol),
-        };
-        positive("max_run_s", scene.max_run_s)?;
-        {
-            // The run-time estimate: steps at the initial time step (U and p
-            // as the speed and acceleration scales) x particles x neighbours
-            // x two passes.
-            let ts = crate::solver::TimeStep::new(h, c0, flow.nu, scene.u, flow.p);
-            let steps = (t_end / ts.dt).ceil();
-            let particles = lattice.n_particles() as f64;
-            let neighbours =
-                std::f64::consts::PI * (support * h).powi(2) / (0.5 * 3f64.sqrt() * d * d);
-            let est_s = steps * particles * neighbours * 2.0 * EST_S_PER_PAIR_PASS;
-            if est_s > scene.max_run_s {
-                return Err(invalid(
-                    "max_run_s",
-                    format!(
-                        "the run would take about {} on one core ({steps:.3e} steps of dt = {:.3e}, bound by the {} limit, \
-                         x {particles} particles), over the bound max_run_s = {} s; raise it (--max-run-s), \
-                         or shorten t_end, or lower c0 (CFL) / raise Re (viscous)",
-                        human_seconds(est_s),
-                        ts.dt,
-                        ts.limit.name(),
-                        scene.max_run_s
-                    ),
-                ));
-            }
-        }
-        let output_interval = match scene.output_interval {
-            Some(dt) => {
-                positive("output_interval", dt)?;
-                dt
-            }
-            None => t_end / 20.0,
-        };
-        Ok(Problem {
-            scene: scene.clone(),
-            kernel: info,
-            lattice,
-            re: flow.re(),
-            rho0: scene.rho0,
-            mass: 0.5 * 3f64.sqrt() * d * d * scene.rho0,
-            mu: scene.rho0 * flow.nu,
-            flow,
-            c0,
-            c0_rule,
-            t_end,
-            output_interval,
-            initial: scene.initial,
-            v_limit: 10.0 * scene.u + c0,
-        })
-    }
-}
-
-fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
+/// Err naming `field` unless `v` is a positive finite number.
+pub(crate) fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
     if v > 0.0 && v.is_finite() {
         Ok(())
     } else {
@@ -628,90 +446,14 @@ fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
     }
 }
 
-/// c0 for a base rule (factor 1), with the rule's canonical name.
-pub fn c0_by_rule(
-    rule: &C0Rule,
-    info: &KernelInfo,
-    scene: &Scene,
-    flow: &Poiseuille,
-) -> Result<(f64, String), SceneError> {
-    let n = f64::from(scene.n_layers);
-    match rule {
-        C0Rule::Rule10 => Ok((10.0 * scene.u, "rule10".into())),
-        C0Rule::Table2 => match &info.printed_c0 {
-            Some(row) => Ok((row.c0(scene.u, n, flow.p, scene.d, scene.alpha), "table2".into())),
-            None => Err(invalid(
-                "c0",
-                format!(
-                    "table2: kernel {} has no printed row in the paper's Table 2; use derived or rule10",
-                    info.name
-                ),
-            )),
-        },
-        C0Rule::Derived(name) => {
-            let model = match name {
-                None => info.default_c0_model(),
-                Some(m) => info.c0_model(m).ok_or_else(|| {
-                    let known: Vec<_> = info.c0_models.iter().map(|m| m.name).collect();
-                    invalid(
-                        "c0",
-                        format!("kernel {} has no c0 model {m:?}; its models: {}", info.name, known.join(", ")),
-                    )
-                })?,
-            };
-            Ok((
-                model.c0(scene.u, n, flow.p, scene.d, scene.alpha),
-                format!("derived:{}", model.name),
-            ))
-        }
-    }
-}
-
-/// All base rules for a kernel: every derived model, 10 U, and Table 2 when
-/// the paper prints a row for it.
-pub fn all_rules(info: &KernelInfo) -> Vec<C0Rule> {
-    let mut rules: Vec<C0Rule> = info
-        .c0_models
-        .iter()
-        .map(|m| C0Rule::Derived(Some(m.name.to_string())))
-        .collect();
-    rules.push(C0Rule::Rule10);
-    if info.printed_c0.is_some() {
-        rules.push(C0Rule::Table2);
-    }
-    rules
-}
-
-fn resolve_c0(
-    spec: &C0Spec,
-    info: &KernelInfo,
-    scene: &Scene,
-    flow: &Poiseuille,
-) -> Result<(f64, String), SceneError> {
-    let (c0, rule) = match spec {
-        C0Spec::Value(v) => (*v, "value".to_string()),
-        C0Spec::Rule { factor, rule } => {
-            positive("c0", *factor)
-                .map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
-            let (c0, name) = c0_by_rule(rule, info, scene, flow)?;
-            let name = if *factor == 1.0 {
-                name
-            } else {
-                format!("{factor}*{name}")
-            };
-            (factor * c0, name)
-        }
-    };
-    if c0 > 0.0 && c0.is_finite() {
-        Ok((c0, rule))
+/// The one range check of alpha, for scenes and sweep grids alike.
+pub fn check_alpha(alpha: f64) -> Result<(), SceneError> {
+    if (0.0..=1.0).contains(&alpha) {
+        Ok(())
     } else {
         Err(invalid(
-            "c0",
-            format!(
-                "{spec} gives c0 = {c0} for this scene, which is not a positive sound speed (a derived \
-                 model without a positive root, or a non-positive number); give a positive number or \
-                 another rule (`shearsph c0` lists them)"
-            ),
+            "alpha",
+            format!("{alpha} is outside [0, 1]; the paper takes alpha in (0, 0.25)"),
         ))
     }
 }
@@ -740,39 +482,10 @@ mod tests {
     }
 
     #[test]
-    fn builtin_scene_resolves() {
-        let scene = Scene::builtin();
-        let info = scene.kernel_info().unwrap();
-        let problem = Problem::new(&scene, info).unwrap();
-        assert!(problem.c0 > 0.0);
-        assert!((problem.re - 10.0).abs() < 1e-12);
-    }
-
-    #[test]
     fn flags_override_and_re_p_exclude_each_other() {
         let mut over = toml::Table::new();
         over.insert("p".into(), toml::Value::Float(0.01));
         let scene = Scene::load(None, over).unwrap();
         assert_eq!((scene.re, scene.p), (None, Some(0.01)));
-    }
-
-    #[test]
-    fn errors_name_the_field() {
-        let info = Scene::builtin().kernel_info().unwrap();
-        let check = |edit: &dyn Fn(&mut Scene), field: &str| {
-            let mut scene = Scene::builtin();
-            edit(&mut scene);
-            let err = Problem::new(&scene, info).unwrap_err().to_string();
-            assert!(err.contains(&format!("`{field}`")), "{err}");
-        };
-        check(&|s| s.n_layers = 2, "n_layers");
-        check(&|s| s.u = 0.0, "u");
-        check(&|s| s.re = Some(-1.0), "re");
-        check(&|s| s.d = -1.0, "d");
-        check(&|s| s.c0 = C0Spec::Value(0.0), "c0");
-        check(&|s| s.t_end = Some(0.0), "t_end");
-        check(&|s| s.alpha = 1.5, "alpha");
-        let err = kernel_info("nope").unwrap_err().to_string();
-        assert!(err.contains("monaghan"), "{err}");
     }
 }

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 /// Relative tolerance for "a lattice distance equals the support", the same
 /// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
-const CLOSED_TOL: f64 = 1e-9;
+pub const CLOSED_TOL: f64 = 1e-9;
 
 /// Where the particles sit and how many there are.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

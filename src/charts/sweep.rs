@@ -1,6 +1,6 @@
-//! The sweep's and the report's charts (SVG, plotters), each drawn from plain
-//! data that is also written as the CSV behind it: speed against accuracy
-//! with its Pareto front, stability maps, and the paper's Figure 4.
+//! The sweep's and the report's charts, each drawn from plain data that is
+//! also written as the CSV behind it: speed against accuracy with its Pareto
+//! front, stability maps (the paper's Figure 4 is in `figure4.rs`).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -9,37 +9,12 @@ use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::chart_err;
+use crate::format::fmt_num;
+use crate::problem::cost::DtLimit;
+use crate::solver::FailureKind;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Row};
-
-fn chart_err<E: std::error::Error + Send + Sync + 'static>(
-    e: DrawingAreaErrorKind<E>,
-) -> anyhow::Error {
-    anyhow::anyhow!("drawing a chart: {e}")
-}
-
-/// A number for an axis label or a table: 3 significant digits, plain or
-/// with an exponent.
-pub fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    let a = v.abs();
-    if (1e-3..1e4).contains(&a) {
-        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.digits$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{v:.2e}")
-    }
-}
 
 /// Colour of an outcome class.
 pub fn class_color(c: Class) -> RGBColor {
@@ -57,7 +32,7 @@ pub fn class_hex(c: Class) -> String {
     format!("#{r:02x}{g:02x}{b:02x}")
 }
 
-fn series_color(k: usize) -> RGBColor {
+pub(super) fn series_color(k: usize) -> RGBColor {
     const C: [RGBColor; 10] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
@@ -91,7 +66,7 @@ fn log_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
 
 /// A legend entry's mark.
 #[derive(Debug, Clone, Copy)]
-enum Mark {
+pub(super) enum Mark {
     Square(RGBColor),
     Line(RGBColor, u32),
     Dot(RGBColor),
@@ -103,7 +78,10 @@ enum Mark {
 }
 
 /// A legend in its own column beside the plot, so it never covers data.
-fn draw_legend(area: &DrawingArea<SVGBackend, Shift>, entries: &[(Mark, String)]) -> Result<()> {
+pub(super) fn draw_legend(
+    area: &DrawingArea<SVGBackend, Shift>,
+    entries: &[(Mark, String)],
+) -> Result<()> {
     let font = ("sans-serif", 12).into_font();
     let bold = ("sans-serif", 12).into_font().style(FontStyle::Bold);
     let x = 8;
@@ -186,7 +164,7 @@ pub struct SpeedPoint {
     pub wall_s: f64,
     pub particle_steps: f64,
     /// The time-step limit that bound most steps.
-    pub dt_limit: String,
+    pub dt_limit_dominant: Option<DtLimit>,
     pub class: Class,
     /// On the Pareto front of its Re, by wall time and by particle-steps.
     pub pareto_wall: bool,
@@ -194,6 +172,11 @@ pub struct SpeedPoint {
 }
 
 impl SpeedPoint {
+    /// The dominant limit's name, empty when unknown.
+    fn limit_name(&self) -> &'static str {
+        self.dt_limit_dominant.map_or("", DtLimit::name)
+    }
+
     pub fn series(&self) -> String {
         format!("{} {}", self.kernel, self.rule)
     }
@@ -220,7 +203,7 @@ pub fn speed_points(rows: &[Row]) -> Vec<SpeedPoint> {
             linf: r.linf_max.max(1e-12),
             wall_s: r.wall_s,
             particle_steps: r.particle_steps,
-            dt_limit: r.dt_limit.clone().unwrap_or_default(),
+            dt_limit_dominant: r.dt_limit_dominant,
             class: r.class,
             pareto_wall: false,
             pareto_work: false,
@@ -269,7 +252,7 @@ pub fn speed_csv(points: &[SpeedPoint]) -> String {
             p.linf,
             p.wall_s,
             p.particle_steps,
-            p.dt_limit,
+            p.limit_name(),
             p.class,
             p.pareto_wall,
             p.pareto_work
@@ -338,8 +321,8 @@ fn speed_panel(
     (xlo, xhi): (f64, f64),
     (ylo, yhi): (f64, f64),
 ) -> Result<()> {
-    let limits: Vec<String> = {
-        let mut l: Vec<String> = points.iter().map(|p| p.dt_limit.clone()).collect();
+    let limits: Vec<&str> = {
+        let mut l: Vec<&str> = points.iter().map(|p| p.limit_name()).collect();
         l.sort();
         l.dedup();
         l
@@ -405,13 +388,13 @@ fn speed_panel(
         for p in &mine {
             let at = (p.cost(cost), p.linf);
             let label = Text::new(format!("{}", p.n), (7, -14), ("sans-serif", 11).into_font());
-            match p.dt_limit.as_str() {
-                "viscous" => chart
+            match p.dt_limit_dominant {
+                Some(DtLimit::Viscous) => chart
                     .draw_series(std::iter::once(
                         EmptyElement::at(at) + Circle::new((0, 0), 5, color.filled()) + label,
                     ))
                     .map_err(chart_err)?,
-                "cfl" => chart
+                Some(DtLimit::Cfl) => chart
                     .draw_series(std::iter::once(
                         EmptyElement::at(at)
                             + TriangleMarker::new((0, 0), 6, color.filled())
@@ -437,7 +420,7 @@ pub struct MapCell {
     pub re: f64,
     pub c0_over_u: f64,
     pub class: Class,
-    pub failure_kind: Option<String>,
+    pub failure_kind: Option<FailureKind>,
     pub linf_max: f64,
     pub max_eps: f64,
     pub id: String,
@@ -464,7 +447,7 @@ pub fn map_csv(kernel: &str, cells: &[MapCell]) -> String {
             c.re,
             c.c0_over_u,
             c.class,
-            c.failure_kind.clone().unwrap_or_default(),
+            c.failure_kind.map_or("", FailureKind::name),
             c.linf_max,
             c.max_eps,
             csv_field(&c.id)
@@ -588,132 +571,6 @@ pub fn map_svg(
     Ok(svg)
 }
 
-// ---------------------------------------------------------------- Figure 4
-
-/// eps(t) of one layer over one period: the generated model and the solver's
-/// density summation on particles moved by the ideal shear.
-#[derive(Debug, Clone)]
-pub struct EpsCurve {
-    pub kernel: String,
-    /// The layer n.
-    pub n: u32,
-    /// e.g. `n = 0`, `n = N - R = 8`.
-    pub label: String,
-    /// t / T.
-    pub t: Vec<f64>,
-    pub model: Vec<f64>,
-    pub measured: Vec<f64>,
-}
-
-/// One kernel's panel: its title, its mean eps (`KernelInfo.eps.mean`), its curves.
-#[derive(Debug, Clone)]
-pub struct EpsPanel {
-    pub kernel: String,
-    pub title: String,
-    pub mean: f64,
-    pub curves: Vec<EpsCurve>,
-}
-
-pub fn figure4_csv(panels: &[EpsPanel], n_layers: u32) -> String {
-    let mut out = String::from("kernel,n_layers,n,curve,t_over_T,eps_model,eps_solver,eps_mean\n");
-    for p in panels {
-        for c in &p.curves {
-            for k in 0..c.t.len() {
-                let _ = writeln!(
-                    out,
-                    "{},{n_layers},{},{},{},{},{},{}",
-                    csv_field(&p.kernel),
-                    c.n,
-                    csv_field(&c.label),
-                    c.t[k],
-                    c.model[k],
-                    c.measured[k],
-                    p.mean
-                );
-            }
-        }
-    }
-    out
-}
-
-/// Figure 4: eps over one period, a panel per kernel; lines the generated
-/// eps_at, dots the solver's density summation under ideal shear, the
-/// dashed-looking grey line the time mean.
-pub fn figure4_svg(panels: &[EpsPanel]) -> Result<String> {
-    let mut svg = String::new();
-    {
-        let height = 340 * panels.len().max(1) as u32;
-        let root = SVGBackend::with_string(&mut svg, (1100, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(chart_err)?;
-        let areas = root.split_evenly((panels.len().max(1), 1));
-        for (panel, area) in panels.iter().zip(&areas) {
-            let (plot, legend) = area.split_horizontally(800);
-            let all = panel
-                .curves
-                .iter()
-                .flat_map(|c| c.model.iter().chain(&c.measured))
-                .copied()
-                .chain(std::iter::once(panel.mean))
-                .filter(|v| v.is_finite());
-            let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            });
-            let pad = ((hi - lo) * 0.08).max(1e-9);
-            let mut chart = ChartBuilder::on(&plot)
-                .caption(&panel.title, ("sans-serif", 16))
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(80)
-                .build_cartesian_2d(0.0..1.0, (lo - pad)..(hi + pad))
-                .map_err(chart_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("t / T")
-                .y_desc("eps = rho/rho0 - 1")
-                .y_label_formatter(&|v| format!("{v:.2e}"))
-                .draw()
-                .map_err(chart_err)?;
-            let grey = RGBColor(100, 100, 100);
-            chart
-                .draw_series(LineSeries::new(
-                    vec![(0.0, panel.mean), (1.0, panel.mean)],
-                    grey.stroke_width(1),
-                ))
-                .map_err(chart_err)?;
-            let mut entries: Vec<(Mark, String)> = Vec::new();
-            for (k, c) in panel.curves.iter().enumerate() {
-                let color = series_color(k);
-                chart
-                    .draw_series(LineSeries::new(
-                        c.t.iter().copied().zip(c.model.iter().copied()),
-                        color.stroke_width(2),
-                    ))
-                    .map_err(chart_err)?;
-                // Every few samples, so the line stays visible under the dots.
-                let step = (c.t.len() / 60).max(1);
-                chart
-                    .draw_series(
-                        c.t.iter()
-                            .zip(&c.measured)
-                            .step_by(step)
-                            .map(|(&t, &e)| Circle::new((t, e), 3, color.stroke_width(1))),
-                    )
-                    .map_err(chart_err)?;
-                entries.push((Mark::Heading, c.label.clone()));
-                entries.push((Mark::Line(color, 2), "eps_at (generated)".into()));
-                entries.push((Mark::Ring(color), "solver density, ideal shear".into()));
-            }
-            entries.push((
-                Mark::Line(grey, 1),
-                format!("mean eps {:.4e} (n = 0)", panel.mean),
-            ));
-            draw_legend(&legend, &entries)?;
-        }
-        root.present().map_err(chart_err)?;
-    }
-    Ok(svg)
-}
-
 /// Group rows by kernel, in kernel order of first appearance.
 pub fn by_kernel(rows: &[Row]) -> BTreeMap<String, Vec<&Row>> {
     let mut m: BTreeMap<String, Vec<&Row>> = BTreeMap::new();
@@ -721,17 +578,4 @@ pub fn by_kernel(rows: &[Row]) -> BTreeMap<String, Vec<&Row>> {
         m.entry(r.kernel.clone()).or_default().push(r);
     }
     m
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fmt_num_is_short() {
-        assert_eq!(fmt_num(0.1), "0.1");
-        assert_eq!(fmt_num(12.3456), "12.3");
-        assert_eq!(fmt_num(1234.0), "1234");
-        assert_eq!(fmt_num(1.5e-5), "1.50e-5");
-    }
 }

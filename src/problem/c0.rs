@@ -1,0 +1,211 @@
+//! The sound speed c0 by any rule, from a channel (no whole problem needed),
+//! and the table of every rule with the time step each implies (`shearsph
+//! c0`, the report's tables).
+
+use serde::Serialize;
+
+use super::channel::Channel;
+use super::cost::{DtLimit, Estimate};
+use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError};
+use crate::kernel::KernelInfo;
+
+/// c0 for a base rule (factor 1), with the rule's canonical name.
+pub fn by_rule(
+    rule: &C0Rule,
+    info: &KernelInfo,
+    channel: &Channel,
+    alpha: f64,
+) -> Result<(f64, String), SceneError> {
+    let u = channel.flow.u;
+    let n = f64::from(channel.lattice.n_layers);
+    let (p, d) = (channel.flow.p, channel.lattice.d);
+    match rule {
+        C0Rule::Rule10 => Ok((10.0 * u, "rule10".into())),
+        C0Rule::Table2 => match &info.printed_c0 {
+            Some(row) => Ok((row.c0(u, n, p, d, alpha), "table2".into())),
+            None => Err(invalid(
+                "c0",
+                format!(
+                    "table2: kernel {} has no printed row in the paper's Table 2; use derived or rule10",
+                    info.name
+                ),
+            )),
+        },
+        C0Rule::Derived(name) => {
+            let model = match name {
+                None => info.default_c0_model(),
+                Some(m) => info.c0_model(m).ok_or_else(|| {
+                    let known: Vec<_> = info.c0_models.iter().map(|m| m.name).collect();
+                    invalid(
+                        "c0",
+                        format!("kernel {} has no c0 model {m:?}; its models: {}", info.name, known.join(", ")),
+                    )
+                })?,
+            };
+            Ok((model.c0(u, n, p, d, alpha), format!("derived:{}", model.name)))
+        }
+    }
+}
+
+/// All base rules for a kernel: every derived model, 10 U, and Table 2 when
+/// the paper prints a row for it.
+pub fn all_rules(info: &KernelInfo) -> Vec<C0Rule> {
+    let mut rules: Vec<C0Rule> = info
+        .c0_models
+        .iter()
+        .map(|m| C0Rule::Derived(Some(m.name.to_string())))
+        .collect();
+    rules.push(C0Rule::Rule10);
+    if info.printed_c0.is_some() {
+        rules.push(C0Rule::Table2);
+    }
+    rules
+}
+
+/// c0 by a scene's spec (a number, or a factor times a rule) and the
+/// spec's canonical name, whether or not it is a usable sound speed.
+pub fn by_spec(
+    spec: &C0Spec,
+    info: &KernelInfo,
+    channel: &Channel,
+    alpha: f64,
+) -> Result<(f64, String), SceneError> {
+    match spec {
+        C0Spec::Value(v) => Ok((*v, "value".to_string())),
+        C0Spec::Rule { factor, rule } => {
+            positive("c0", *factor)
+                .map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
+            let (c0, name) = by_rule(rule, info, channel, alpha)?;
+            let name = if *factor == 1.0 {
+                name
+            } else {
+                format!("{factor}*{name}")
+            };
+            Ok((factor * c0, name))
+        }
+    }
+}
+
+/// [`by_spec`], refusing a c0 that is not a positive number.
+pub fn resolve(
+    spec: &C0Spec,
+    info: &KernelInfo,
+    channel: &Channel,
+    alpha: f64,
+) -> Result<(f64, String), SceneError> {
+    let (c0, rule) = by_spec(spec, info, channel, alpha)?;
+    if c0 > 0.0 && c0.is_finite() {
+        Ok((c0, rule))
+    } else {
+        Err(invalid(
+            "c0",
+            format!(
+                "{spec} gives c0 = {c0} for this scene, which is not a positive sound speed (a derived \
+                 model without a positive root, or a non-positive number); give a positive number or \
+                 another rule (`shearsph c0` lists them)"
+            ),
+        ))
+    }
+}
+
+/// One rule's sound speed and what it costs.
+#[derive(Debug, Clone, Serialize)]
+pub struct C0Row {
+    /// Rule in scene syntax (`derived:MODEL`, `rule10`, `table2`), or the
+    /// scene's own c0 when it is not one of those.
+    pub rule: String,
+    /// NaN (null in JSON) or not positive when the rule gives no sound speed
+    /// for this scene (a derived model without a positive root).
+    pub c0: f64,
+    pub c0_over_u: f64,
+    /// The time step with |v|max = U and |a|max = p (the body force), the
+    /// limit that binds, each limit, and the steps to t_end at that dt; none
+    /// when c0 is not a positive number.
+    pub cost: Option<Cost>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Cost {
+    pub dt: f64,
+    pub dt_limit: DtLimit,
+    pub dt_cfl: f64,
+    pub dt_viscous: f64,
+    pub dt_force: f64,
+    pub steps: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct C0Table {
+    pub kernel: String,
+    pub n_layers: u32,
+    pub re: f64,
+    pub u: f64,
+    pub p: f64,
+    pub nu: f64,
+    pub d: f64,
+    pub h: f64,
+    pub alpha: f64,
+    /// A = p d N^4 / U^2, the paper's parameter of Table 2.
+    pub a: f64,
+    pub t_end: f64,
+    /// The scene's own c0 spec, and the error it gives if it cannot resolve.
+    pub scene_c0: String,
+    pub scene_c0_error: Option<String>,
+    pub rows: Vec<C0Row>,
+}
+
+/// The c0 table for a scene: every base rule, and the scene's own c0 when
+/// it is none of them. Everything but c0 must be valid; the scene's own c0
+/// is reported beside when it does not resolve.
+pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
+    let info = scene.kernel_info()?;
+    super::check_fields(scene)?;
+    let channel = Channel::resolve(scene, info)?;
+    let t_end = channel.t_end(scene)?;
+    let row = |rule: String, c0: f64| {
+        let est = Estimate::new(&channel, c0, t_end);
+        let ts = est.time_step;
+        C0Row {
+            rule,
+            c0,
+            c0_over_u: c0 / channel.flow.u,
+            cost: (c0 > 0.0 && c0.is_finite()).then_some(Cost {
+                dt: ts.dt,
+                dt_limit: ts.limit,
+                dt_cfl: ts.cfl,
+                dt_viscous: ts.viscous,
+                dt_force: ts.force,
+                steps: est.steps,
+            }),
+        }
+    };
+    let mut rows = Vec::new();
+    for rule in all_rules(info) {
+        let (c0, name) = by_rule(&rule, info, &channel, scene.alpha)?;
+        rows.push(row(name, c0));
+    }
+    let mut scene_c0_error = None;
+    match super::Problem::resolve(scene, info) {
+        Ok(p) if !rows.iter().any(|r| r.rule == p.c0_rule) => {
+            rows.push(row(p.c0_rule.clone(), p.c0))
+        }
+        Ok(_) => {}
+        Err(e) => scene_c0_error = Some(e.to_string()),
+    }
+    Ok(C0Table {
+        kernel: info.name.to_string(),
+        n_layers: scene.n_layers,
+        re: channel.re,
+        u: channel.flow.u,
+        p: channel.flow.p,
+        nu: channel.flow.nu,
+        d: channel.lattice.d,
+        h: channel.lattice.h,
+        alpha: scene.alpha,
+        a: channel.a_param(),
+        t_end,
+        scene_c0: scene.c0.to_string(),
+        scene_c0_error,
+        rows,
+    })
+}

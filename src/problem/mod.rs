@@ -1,0 +1,211 @@
+//! The problem layer: a scene resolved against its kernel into every number
+//! the solver reads, once. Above the configuration (`crate::config`), below
+//! the solver; imports neither the solver nor anything above it.
+//!
+//! - [`channel`]: the lattice and the flow (B, p, nu, Re), which need no c0;
+//! - [`c0`]: c0 by any rule from a channel, and the table of every rule;
+//! - [`cost`]: the time-step limits and the run-time estimate.
+
+pub mod c0;
+pub mod channel;
+pub mod cost;
+pub mod lattice;
+
+use serde::Serialize;
+
+use crate::analytic::Poiseuille;
+use crate::config::{invalid, positive, C0Spec, Scene};
+/// The configuration's value types a problem carries, for the solver, which
+/// reads the problem only.
+pub use crate::config::{Initial, PressureForm, SceneError, WallVelocity};
+use crate::kernel::KernelInfo;
+use channel::Channel;
+use lattice::Lattice;
+
+/// A scene resolved against its kernel: every number the solver uses.
+#[derive(Debug, Clone, Serialize)]
+pub struct Problem {
+    /// The scene as given (written beside a run's outputs as `scene.toml`).
+    pub scene: Scene,
+    #[serde(skip)]
+    pub kernel: &'static KernelInfo,
+    pub lattice: Lattice,
+    /// Walls at y = ±B, U, nu and p.
+    pub flow: Poiseuille,
+    pub re: f64,
+    pub rho0: f64,
+    /// Particle mass (sqrt 3 / 2) d^2 rho0 (11).
+    pub mass: f64,
+    /// Dynamic viscosity rho0 nu (10).
+    pub mu: f64,
+    pub c0: f64,
+    /// The rule c0 came from, in scene syntax with the model named
+    /// (e.g. `0.5*derived:full`), or `value`.
+    pub c0_rule: String,
+    /// Artificial viscosity coefficient of (31), in [0, 1].
+    pub alpha: f64,
+    /// EOS exponent (1: the paper's (13)).
+    pub gamma: f64,
+    pub allow_negative_pressure: bool,
+    pub pressure_form: PressureForm,
+    pub wall_velocity: WallVelocity,
+    /// Random initial displacement of the fluid, in d.
+    pub jitter: f64,
+    /// Neighbour-list skin in h.
+    pub skin: f64,
+    /// A run fails when the fluid's compaction exceeds this.
+    pub eps_limit: f64,
+    pub t_end: f64,
+    pub output_interval: f64,
+    pub initial: Initial,
+    /// A run fails when a fluid speed exceeds 10 U + c0: no flow of this
+    /// problem comes near it (the flow is at most U, the acoustic pulsation a
+    /// fraction of c0).
+    pub v_limit: f64,
+}
+
+impl Problem {
+    /// Check the scene and compute everything the solver needs for kernel
+    /// `info`.
+    pub fn resolve(scene: &Scene, info: &'static KernelInfo) -> Result<Problem, SceneError> {
+        check_fields(scene)?;
+        let channel = Channel::resolve(scene, info)?;
+        let (c0, c0_rule) = c0::resolve(&scene.c0, info, &channel, scene.alpha)?;
+        let t_end = channel.t_end(scene)?;
+        positive("max_run_s", scene.max_run_s)?;
+        cost::check_run_time(&channel, info.support, c0, t_end, scene.max_run_s)?;
+        let output_interval = match scene.output_interval {
+            Some(dt) => {
+                positive("output_interval", dt)?;
+                dt
+            }
+            None => t_end / 20.0,
+        };
+        let Channel { lattice, flow, re } = channel;
+        let d = lattice.d;
+        Ok(Problem {
+            scene: scene.clone(),
+            kernel: info,
+            lattice,
+            re,
+            rho0: scene.rho0,
+            mass: 0.5 * 3f64.sqrt() * d * d * scene.rho0,
+            mu: scene.rho0 * flow.nu,
+            flow,
+            c0,
+            c0_rule,
+            alpha: scene.alpha,
+            gamma: scene.gamma,
+            allow_negative_pressure: scene.allow_negative_pressure,
+            pressure_form: scene.pressure_form,
+            wall_velocity: scene.wall_velocity,
+            jitter: scene.jitter,
+            skin: scene.skin,
+            eps_limit: scene.eps_limit,
+            t_end,
+            output_interval,
+            initial: scene.initial,
+            v_limit: 10.0 * scene.u + c0,
+        })
+    }
+
+    /// The paper's section 4 set-up for kernel `info` with N = `n_layers`
+    /// and h = d, whose particles the ideal shear moves (`solver::ideal_shear`):
+    /// only the density is used, so c0 and the EOS play no part.
+    pub fn ideal_shear(info: &'static KernelInfo, n_layers: u32) -> Result<Problem, SceneError> {
+        let scene = Scene {
+            kernel: info.name.to_string(),
+            n_layers,
+            h_over_d: 1.0,
+            d: 1.0,
+            u: 1.0,
+            re: Some(10.0),
+            p: None,
+            c0: C0Spec::Value(1.0),
+            initial: Initial::Steady,
+            ..Scene::builtin()
+        };
+        Problem::resolve(&scene, info)
+    }
+
+    /// The problem's channel: its lattice and flow.
+    pub fn channel(&self) -> Channel {
+        Channel {
+            lattice: self.lattice,
+            flow: self.flow,
+            re: self.re,
+        }
+    }
+
+    /// Whether the artificial viscosity (31) acts: the force pass's switch
+    /// and the flop count both ask this.
+    pub fn has_artificial_viscosity(&self) -> bool {
+        self.alpha > 0.0
+    }
+
+    /// Whether the walls show the fluid its mirrored velocity.
+    pub fn mirrored_walls(&self) -> bool {
+        self.wall_velocity == WallVelocity::Mirrored
+    }
+}
+
+/// The scene's own fields that need no kernel: ranges and signs.
+pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
+    positive("d", scene.d)?;
+    positive("h_over_d", scene.h_over_d)?;
+    positive("u", scene.u)?;
+    positive("rho0", scene.rho0)?;
+    positive("decay_tol", scene.decay_tol)?;
+    positive("eps_limit", scene.eps_limit)?;
+    if !(0.0..0.5).contains(&scene.jitter) {
+        return Err(invalid(
+            "jitter",
+            format!("{} (in d) must be in [0, 0.5)", scene.jitter),
+        ));
+    }
+    crate::config::check_alpha(scene.alpha)?;
+    if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
+        return Err(invalid(
+            "gamma",
+            format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{kernel_info, C0Spec};
+
+    #[test]
+    fn builtin_scene_resolves() {
+        let scene = Scene::builtin();
+        let info = scene.kernel_info().unwrap();
+        let problem = Problem::resolve(&scene, info).unwrap();
+        assert!(problem.c0 > 0.0);
+        assert!((problem.re - 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let info = Scene::builtin().kernel_info().unwrap();
+        let check = |edit: &dyn Fn(&mut Scene), field: &str| {
+            let mut scene = Scene::builtin();
+            edit(&mut scene);
+            let err = Problem::resolve(&scene, info).unwrap_err().to_string();
+            assert!(err.contains(&format!("`{field}`")), "{err}");
+        };
+        check(&|s| s.n_layers = 2, "n_layers");
+        check(&|s| s.u = 0.0, "u");
+        check(&|s| s.re = Some(-1.0), "re");
+        check(&|s| s.d = -1.0, "d");
+        check(&|s| s.c0 = C0Spec::Value(0.0), "c0");
+        check(&|s| s.t_end = Some(0.0), "t_end");
+        check(&|s| s.alpha = 1.5, "alpha");
+        check(&|s| s.skin = 5.0, "skin");
+        check(&|s| s.max_run_s = 1e-9, "max_run_s");
+        let err = kernel_info("nope").unwrap_err().to_string();
+        assert!(err.contains("monaghan"), "{err}");
+    }
+}

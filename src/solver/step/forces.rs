@@ -1,0 +1,407 @@
+//! Accelerations (pressure (12) with the artificial viscosity (31), the
+//! viscous Laplacian (14), the body force) and the closing kick.
+
+use rayon::prelude::*;
+
+use super::isa::{lane_sum, Isa, Scratch, BLOCK};
+use super::state::{Params, State};
+use super::CHUNK;
+use crate::solver::neighbours::{Entry, NeighbourList, LANES};
+
+/// What the force pass saw at the end of the step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Forces {
+    /// Largest |v| and |a| of the fluid.
+    pub v_max: f64,
+    pub a_max: f64,
+    /// false when any velocity or acceleration is NaN or infinite.
+    pub finite: bool,
+}
+
+impl Forces {
+    const NONE: Forces = Forces {
+        v_max: 0.0,
+        a_max: 0.0,
+        finite: true,
+    };
+
+    fn merge(self, o: Forces) -> Forces {
+        Forces {
+            v_max: self.v_max.max(o.v_max),
+            a_max: self.a_max.max(o.a_max),
+            finite: self.finite && o.finite,
+        }
+    }
+}
+
+/// Floating-point operations per pair in the force pass's loop (the kernel
+/// was evaluated in the density pass): dx with its image, dy (3), p_ij (1),
+/// v_ij (2), the pressure and Laplacian terms of both components, scaled per
+/// particle, summed and times (dW/dq)/q (10), the two lane sums (2). With
+/// artificial viscosity also r^2 (3), v_ij . r_ij (3), its min, division and
+/// scale (3), its two terms (4).
+pub(crate) const FORCE_PAIR_FLOPS: u32 = 18;
+pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
+/// Mirrored walls add the factor beta: a product, a min and a sum (3), and
+/// its product with the viscous scale (1).
+pub(crate) const FORCE_PAIR_FLOPS_MIRROR: u32 = 4;
+
+/// The particle-level factors of the force terms.
+#[derive(Clone, Copy)]
+pub(super) struct Scales {
+    /// m / rho_i^2 (paper) or m (symmetric).
+    pressure: f64,
+    /// alpha c0 h m / rho_i.
+    av: f64,
+    /// 2 mu / rho_i.
+    visc: f64,
+    /// 1 / (B - |y_i|), the inverse distance to the no-slip plane (mirrored
+    /// walls only).
+    inv_gap: f64,
+    /// The largest factor beta of mirrored walls ([`Params::beta_max`]).
+    beta_max: f64,
+}
+
+/// One particle's force inputs.
+#[derive(Clone, Copy)]
+pub(super) struct ForceArgs<'a> {
+    /// The particle.
+    pub i: usize,
+    /// Its padded list.
+    pub entries: &'a [u32],
+    /// Its slots' sources and the (dW/dq)/q they point into.
+    pub sources: &'a [u32],
+    pub pair_g: &'a [f64],
+    /// Positions (x, y).
+    pub xs: (&'a [f64], &'a [f64]),
+    /// Velocities (vx, vy) predicted at the step's end.
+    pub vs: (&'a [f64], &'a [f64]),
+    /// P (paper form) or P/rho^2 (symmetric).
+    pub pq: &'a [f64],
+    /// m/rho.
+    pub vol: &'a [f64],
+    /// Wall depth (mirrored walls only).
+    pub depth: &'a [f64],
+    /// The strip's width, for the images' offsets.
+    pub width: f64,
+    pub sc: Scales,
+}
+
+/// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
+/// loops without branches or bounds checks, as in [`super::density::pair_kernel`].
+#[inline(always)]
+pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
+    args: ForceArgs,
+    scratch: &mut Scratch,
+) -> (f64, f64) {
+    let ForceArgs {
+        i,
+        entries,
+        sources,
+        pair_g,
+        xs,
+        vs,
+        pq,
+        vol,
+        depth,
+        width,
+        sc,
+    } = args;
+    let (x, y) = xs;
+    let (vpx, vpy) = vs;
+    let n = x.len();
+    assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
+    assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
+    assert!(!pair_g.is_empty());
+    let last = n - 1;
+    let last_g = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
+    let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
+    let beta_cap = sc.beta_max - 1.0;
+    let mut acc_x = [0.0; LANES];
+    let mut acc_y = [0.0; LANES];
+    let (cx, cy) = (&mut scratch.0, &mut scratch.1);
+    for (block, src_block) in entries.chunks(BLOCK).zip(sources.chunks(BLOCK)) {
+        let m = block.len();
+        for (((cx, cy), &e), &src) in cx[..m]
+            .iter_mut()
+            .zip(&mut cy[..m])
+            .zip(block)
+            .zip(src_block)
+        {
+            let j = Entry::index_below(e, last);
+            let g = pair_g[src.min(last_g) as usize];
+            // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
+            let dx = xi - x[j] + Entry::offset(e, width);
+            let dy = yi - y[j];
+            let p = sc.pressure * (pqi + pq[j]);
+            let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
+            let mut l = sc.visc * vol[j];
+            if MIRROR {
+                // A wall particle at depth D beyond the no-slip plane shows
+                // fluid particle i, at distance g from it, the velocity
+                // -(D / g) v_i: the velocity difference grows by beta.
+                l *= 1.0 + (depth[j] * sc.inv_gap).min(beta_cap);
+            }
+            let (mut fx, mut fy) = (l * dvx - p * dx, l * dvy - p * dy);
+            if AV {
+                // Only approaching pairs (v_ij . r_ij < 0), branch-free.
+                let r2 = dx * dx + dy * dy;
+                let vr = dvx * dx + dvy * dy;
+                let a = sc.av * (vr.min(0.0) / r2);
+                fx += a * dx;
+                fy += a * dy;
+            }
+            *cx = fx * g;
+            *cy = fy * g;
+        }
+        for (a, b) in cx[..m].chunks_exact(LANES).zip(cy[..m].chunks_exact(LANES)) {
+            for l in 0..LANES {
+                acc_x[l] += a[l];
+                acc_y[l] += b[l];
+            }
+        }
+    }
+    (lane_sum(acc_x), lane_sum(acc_y))
+}
+
+/// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
+/// listed pairs with the (dW/dq)/q that [`super::density::density`] left (0 out of reach).
+///
+/// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
+///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
+/// - artificial viscosity (31): (alpha c0 h m / rho_i) sum over approaching
+///   pairs of (v_ij . r_ij) / r_ij^2 grad_i W_ij, repulsive;
+/// - viscosity, the Laplacian (14) with the right sign on both components:
+///   (2 mu m / rho_i) sum (v_i - v_j) / rho_j (dW/dr) / r_ij; with mirrored
+///   walls (Morris, Fox and Zhu 1997), a wall particle j at depth D_j beyond
+///   the no-slip plane shows fluid particle i, at distance g_i from it, the
+///   velocity -(D_j / g_i) v_i, so v_i - v_j = beta v_i with
+///   beta = min(1 + D_j / g_i, beta_max) ([`Params::beta_max`]);
+/// - the body force p along +x.
+pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+    let isa = Isa::detect();
+    // The pressure form, the artificial viscosity and the walls as constants
+    // of the pair loop: each combination compiles to its own loop.
+    let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
+        (true, true, true) => forces_with::<true, true, true>,
+        (true, true, false) => forces_with::<true, true, false>,
+        (true, false, true) => forces_with::<true, false, true>,
+        (true, false, false) => forces_with::<true, false, false>,
+        (false, true, true) => forces_with::<false, true, true>,
+        (false, true, false) => forces_with::<false, true, false>,
+        (false, false, true) => forces_with::<false, false, true>,
+        (false, false, false) => forces_with::<false, false, false>,
+    };
+    f(s, list, prm, half_dt, isa)
+}
+
+pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
+    s: &mut State,
+    list: &NeighbourList,
+    prm: &Params,
+    half_dt: f64,
+    isa: Isa,
+) -> Forces {
+    let nf = s.n_fluid;
+    let n = s.x.len();
+    let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
+    let (rho, vol, depth) = (&s.rho[..n], &s.vol[..n], &s.depth[..n]);
+    let pq = if SYMMETRIC {
+        &s.p_rho2[..n]
+    } else {
+        &s.press[..n]
+    };
+    let inp = ForcesIn {
+        x,
+        y,
+        vpx,
+        vpy,
+        rho,
+        vol,
+        depth,
+        pq,
+        pair_g: &s.pair_g,
+        list,
+        width: list.width(),
+        prm,
+        half_dt,
+    };
+    (
+        s.ax.par_chunks_mut(CHUNK),
+        s.ay.par_chunks_mut(CHUNK),
+        s.vx[..nf].par_chunks_mut(CHUNK),
+        s.vy[..nf].par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR>(isa, c, out, &inp))
+        .reduce(|| Forces::NONE, Forces::merge)
+}
+
+/// What every task of the force pass reads.
+pub(super) struct ForcesIn<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    vpx: &'a [f64],
+    vpy: &'a [f64],
+    rho: &'a [f64],
+    vol: &'a [f64],
+    depth: &'a [f64],
+    /// P (paper form) or P / rho^2 (symmetric).
+    pq: &'a [f64],
+    pair_g: &'a [f64],
+    list: &'a NeighbourList,
+    width: f64,
+    prm: &'a Params,
+    half_dt: f64,
+}
+
+/// One task's outputs: ax, ay, vx, vy.
+pub(super) type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
+
+/// Accelerations and the closing kick for the fluid particles of task `c`.
+#[inline(always)]
+pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
+    c: usize,
+    out: ForcesOut,
+    inp: &ForcesIn,
+) -> Forces {
+    let (ax, ay, vx, vy) = out;
+    let prm = inp.prm;
+    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+    let mut seen = Forces::NONE;
+    for k in 0..ax.len() {
+        let i = c * CHUNK + k;
+        let entries = inp.list.of_padded(i);
+        let sources = inp.list.sources_padded(i);
+        let inv_rho = 1.0 / inp.rho[i];
+        let sc = Scales {
+            pressure: if SYMMETRIC {
+                prm.mass
+            } else {
+                prm.mass * inv_rho * inv_rho
+            },
+            av: prm.av * inv_rho,
+            visc: prm.visc * inv_rho,
+            // Capped by beta_max anyway: a particle at the plane is no
+            // division by zero.
+            inv_gap: 1.0 / (prm.b - inp.y[i].abs()).max(f64::MIN_POSITIVE),
+            beta_max: prm.beta_max,
+        };
+        let args = ForceArgs {
+            i,
+            entries,
+            sources,
+            pair_g: inp.pair_g,
+            xs: (inp.x, inp.y),
+            vs: (inp.vpx, inp.vpy),
+            pq: inp.pq,
+            vol: inp.vol,
+            depth: inp.depth,
+            width: inp.width,
+            sc,
+        };
+        let (fx, fy) = pair_forces::<AV, MIRROR>(args, scratch);
+        let axi = prm.grad_scale * fx + prm.body;
+        let ayi = prm.grad_scale * fy;
+        ax[k] = axi;
+        ay[k] = ayi;
+        vx[k] += inp.half_dt * axi;
+        vy[k] += inp.half_dt * ayi;
+        let a2 = axi * axi + ayi * ayi;
+        let v2 = vx[k] * vx[k] + vy[k] * vy[k];
+        seen.finite &= (a2 + v2).is_finite();
+        seen.a_max = seen.a_max.max(a2);
+        seen.v_max = seen.v_max.max(v2);
+    }
+    seen.a_max = seen.a_max.sqrt();
+    seen.v_max = seen.v_max.sqrt();
+    seen
+}
+
+on_isa! {
+    /// [`forces_chunk`] compiled for the instruction set `isa`.
+    pub(super) fn forces_chunk_on[const SYMMETRIC: bool, const AV: bool, const MIRROR: bool]
+        => forces_chunk[SYMMETRIC, AV, MIRROR](c: usize, out: ForcesOut, inp: &ForcesIn) -> Forces
+}
+
+on_isa! {
+    /// [`pair_forces`] alone, for the test that compares instruction sets.
+    #[cfg(test)]
+    pub(super) fn pair_forces_on[const AV: bool, const MIRROR: bool]
+        => pair_forces[AV, MIRROR](args: ForceArgs, scratch: &mut Scratch) -> (f64, f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::density::{pair_gather_on, pair_kernel_on};
+    use super::*;
+    use crate::kernels::Morris;
+
+    /// The pair loops give the same bits whatever instructions they were
+    /// compiled for: the vector builds only run the same operations in the
+    /// same order in lanes.
+    #[test]
+    fn pair_loops_give_the_same_bits_on_every_isa() {
+        let n = 200;
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect();
+        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect();
+        let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.123).sin()).collect();
+        let width = 7.0;
+        // 37 neighbours (two whole blocks and a part) and padding.
+        let mut entries: Vec<u32> = (1..38)
+            .map(|j| Entry::pack(j * 5 % n, (j % 3) as i8 - 1))
+            .collect();
+        entries.resize(40, Entry::padding(0));
+        let sc = Scales {
+            pressure: 0.7,
+            av: 0.3,
+            visc: 0.2,
+            inv_gap: 0.9,
+            beta_max: 3.0,
+        };
+        // Where each slot's kernel values come from: a permutation of the
+        // evaluated slots, and for the padding the zero slot after them.
+        let sources: Vec<u32> = (0..entries.len() as u32)
+            .map(|s| if s < 37 { (s * 7 + 3) % 37 } else { 40 })
+            .collect();
+        let run = |isa: Isa| {
+            let mut w = vec![0.0; entries.len() + 1];
+            let mut pg = vec![0.0; entries.len() + 1];
+            let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+            let at = (x[0], y[0]);
+            let xs = (&x[..], &y[..]);
+            let out = (&mut w[..40], &mut pg[..40]);
+            pair_kernel_on::<Morris>(isa, at, &entries, xs, width, 0.5, out, scratch);
+            let w_sum = pair_gather_on(isa, &sources, &w);
+            let args = ForceArgs {
+                i: 0,
+                entries: &entries[..],
+                sources: &sources[..],
+                pair_g: &pg[..],
+                xs: (&x[..], &y[..]),
+                vs: (&v[..], &v[..]),
+                pq: &v[..],
+                vol: &x[..],
+                depth: &y[..],
+                width,
+                sc,
+            };
+            let f = pair_forces_on::<true, true>(isa, args, scratch);
+            let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
+            bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
+            bits
+        };
+        let base = run(Isa::Base);
+        assert!(
+            f64::from_bits(base[base.len() - 3]) > 0.0,
+            "some pairs are in reach"
+        );
+        let detected = Isa::detect();
+        assert_eq!(run(detected), base, "{detected:?} against the base build");
+        #[cfg(target_arch = "x86_64")]
+        if detected == Isa::Avx512 {
+            assert_eq!(run(Isa::Avx2), base, "AVX2 against the base build");
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! Instruction-set dispatch: the vector instructions the pair loops are
+//! compiled for, chosen at run time, and the lane helpers every pass shares.
+
+use crate::solver::neighbours::LANES;
+
+/// Entries a pair loop takes at a time, in buffers on the stack (a whole
+/// number of lane groups; a list longer than this takes several).
+pub(super) const BLOCK: usize = 8 * LANES;
+
+/// Two buffers of a block's entries, made once per parallel task (zeroing
+/// them per particle would cost more than some particles' pairs).
+pub(super) type Scratch = ([f64; BLOCK], [f64; BLOCK]);
+
+/// The pairwise sum of the lane accumulators, in a fixed order.
+#[inline(always)]
+pub(super) fn lane_sum(a: [f64; LANES]) -> f64 {
+    ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
+}
+
+/// The vector instructions the pair loops are compiled for, chosen at run
+/// time. Each is the same source, the same operations in the same order:
+/// the results are the same bits on every CPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Isa {
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    Base,
+}
+
+impl Isa {
+    /// Name and f64 lanes per vector register.
+    pub(crate) fn describe(self) -> (&'static str, u32) {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => ("AVX-512", 8),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => ("AVX2", 4),
+            Isa::Base => ("baseline (SSE2 on x86-64)", 2),
+        }
+    }
+
+    pub(crate) fn detect() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Base
+    }
+}

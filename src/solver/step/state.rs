@@ -1,0 +1,230 @@
+//! The particle state (structure of arrays), its start on the lattice, and
+//! the per-step constants the pair loops read ([`Params`]).
+
+use crate::problem::lattice::Lattice;
+use crate::problem::{Initial, PressureForm, Problem};
+
+/// Fluid particles come first (indices < n_fluid), the fixed walls after.
+pub(crate) struct State {
+    pub n_fluid: usize,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    /// Velocity: v(t) between steps, v(t + dt/2) inside one. Zero on walls.
+    pub vx: Vec<f64>,
+    pub vy: Vec<f64>,
+    /// The velocity the forces see, v(t) + dt a(t), a prediction of
+    /// v(t + dt) (viscosity and artificial viscosity depend on it).
+    pub vpx: Vec<f64>,
+    pub vpy: Vec<f64>,
+    /// Acceleration of the fluid particles.
+    pub ax: Vec<f64>,
+    pub ay: Vec<f64>,
+    pub rho: Vec<f64>,
+    pub press: Vec<f64>,
+    /// m / rho and P / rho^2, per particle, so the pair loops do not divide.
+    pub vol: Vec<f64>,
+    pub p_rho2: Vec<f64>,
+    /// Fluid positions at the last neighbour-list rebuild.
+    pub x0: Vec<f64>,
+    pub y0: Vec<f64>,
+    /// Layer each particle started in.
+    pub layer: Vec<i32>,
+    /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
+    /// for the walls (which never move), 0 for the fluid. For mirrored walls.
+    pub depth: Vec<f64>,
+    /// What the density pass leaves for the force pass: W and (dW/dq)/q of
+    /// every listed pair (0 beyond the support), evaluated once per pair
+    /// and step, in the slot (`near_stride` per particle) of the entry it
+    /// was evaluated for ([`NeighbourList::own`]), and after them a slot
+    /// kept at zero for padding; each entry finds its pair's through
+    /// [`NeighbourList::sources_padded`]. The force pass has no distance
+    /// test and no kernel.
+    pub pair_w: Vec<f64>,
+    pub pair_g: Vec<f64>,
+    pub near_stride: usize,
+}
+
+impl State {
+    pub fn new(lattice: &Lattice, problem: &Problem) -> Self {
+        let (mut x, mut y, layer) = lattice.positions();
+        let n = x.len();
+        let n_fluid = lattice.n_fluid();
+        let jitter = problem.jitter * lattice.d;
+        if jitter > 0.0 {
+            let mut rng = SplitMix64(0x5eed_5be5);
+            for i in 0..n_fluid {
+                x[i] += jitter * rng.symmetric();
+                y[i] += jitter * rng.symmetric();
+            }
+        }
+        let mut vx = vec![0.0; n];
+        if problem.initial == Initial::Steady {
+            for i in 0..n_fluid {
+                vx[i] = problem.flow.steady(y[i]);
+            }
+        }
+        let b = lattice.b();
+        let depth = (0..n)
+            .map(|i| {
+                if i < n_fluid {
+                    0.0
+                } else {
+                    (y[i].abs() - b).max(0.0)
+                }
+            })
+            .collect();
+        State {
+            n_fluid,
+            depth,
+            vpx: vx.clone(),
+            vx,
+            vy: vec![0.0; n],
+            vpy: vec![0.0; n],
+            ax: vec![0.0; n_fluid],
+            ay: vec![0.0; n_fluid],
+            rho: vec![problem.rho0; n],
+            press: vec![0.0; n],
+            vol: vec![0.0; n],
+            p_rho2: vec![0.0; n],
+            x0: x[..n_fluid].to_vec(),
+            y0: y[..n_fluid].to_vec(),
+            x,
+            y,
+            layer,
+            near_stride: 0,
+            pair_w: Vec::new(),
+            pair_g: Vec::new(),
+        }
+    }
+
+    /// Bytes held by the arrays.
+    pub fn bytes(&self) -> usize {
+        let f64s = [
+            &self.x,
+            &self.y,
+            &self.vx,
+            &self.vy,
+            &self.vpx,
+            &self.vpy,
+            &self.ax,
+            &self.ay,
+            &self.rho,
+            &self.press,
+            &self.vol,
+            &self.p_rho2,
+            &self.x0,
+            &self.y0,
+            &self.depth,
+        ]
+        .iter()
+        .map(|v| v.capacity())
+        .sum::<usize>();
+        (f64s + self.pair_w.capacity() + self.pair_g.capacity()) * size_of::<f64>()
+            + self.layer.capacity() * size_of::<u32>()
+    }
+
+    /// Wrap the fluid into the strip and take the current positions as the
+    /// reference for the rebuild rule.
+    pub fn wrap(&mut self, width: f64) {
+        for i in 0..self.n_fluid {
+            self.x[i] = self.x[i].rem_euclid(width);
+        }
+        self.x0.copy_from_slice(&self.x[..self.n_fluid]);
+        self.y0.copy_from_slice(&self.y[..self.n_fluid]);
+    }
+}
+
+/// A small deterministic generator (SplitMix64) for the initial jitter.
+pub(super) struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// Uniform in [-1, 1).
+    fn symmetric(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        2.0 * ((z >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+}
+
+/// Everything the pair loops need, with the h powers folded in once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Params {
+    pub inv_h2: f64,
+    /// m / h^2: rho = (m / h^2) sum w(q^2).
+    pub mass_over_h2: f64,
+    pub mass: f64,
+    pub rho0: f64,
+    /// rho0 c0^2 / gamma.
+    pub b_eos: f64,
+    pub gamma: f64,
+    pub allow_negative: bool,
+    pub symmetric: bool,
+    /// grad_i W_ij = (dw_over_q / h^4) r_ij.
+    pub grad_scale: f64,
+    /// alpha c0 h m (31).
+    pub av: f64,
+    /// Whether (31) acts at all: [`Problem::has_artificial_viscosity`], the
+    /// same test the flop count makes.
+    pub has_av: bool,
+    /// 2 mu (the Laplacian (14) with the right sign).
+    pub visc: f64,
+    /// Body force along +x.
+    pub body: f64,
+    /// Walls mirror the fluid's velocity in the viscous term ([`super::forces::forces`]).
+    pub mirror_walls: bool,
+    /// The no-slip plane |y| = B.
+    pub b: f64,
+    /// The cap on the mirrored walls' factor beta = 1 + D_j / g_i: the
+    /// largest beta of the undisturbed lattice (the deepest wall layer, at
+    /// D = (layers - 1) dy, seen from the first fluid layer, g = dy), so
+    /// that only a fluid particle nearer the plane than one layer spacing
+    /// is capped, and a particle reaching the plane does not take an
+    /// unbounded viscous force. Morris, Fox and Zhu (1997) capped it at
+    /// 1.5; one, two and three wall layers give 1, 2 and 3 here.
+    pub beta_max: f64,
+}
+
+impl Params {
+    pub fn new(problem: &Problem) -> Self {
+        let h = problem.lattice.h;
+        Params {
+            inv_h2: 1.0 / (h * h),
+            mass_over_h2: problem.mass / (h * h),
+            mass: problem.mass,
+            rho0: problem.rho0,
+            b_eos: problem.rho0 * problem.c0 * problem.c0 / problem.gamma,
+            gamma: problem.gamma,
+            allow_negative: problem.allow_negative_pressure,
+            symmetric: problem.pressure_form == PressureForm::Symmetric,
+            grad_scale: 1.0 / (h * h * h * h),
+            av: problem.alpha * problem.c0 * h * problem.mass,
+            has_av: problem.has_artificial_viscosity(),
+            visc: 2.0 * problem.mu,
+            body: problem.flow.p,
+            mirror_walls: problem.mirrored_walls(),
+            b: problem.lattice.b(),
+            beta_max: f64::from(problem.lattice.wall_layers.max(1)),
+        }
+    }
+
+    /// EOS (13): P = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1), no tension
+    /// unless allowed.
+    #[inline]
+    pub(super) fn pressure(&self, rho: f64) -> f64 {
+        let ratio = rho / self.rho0;
+        let compression = if self.gamma == 1.0 {
+            ratio - 1.0
+        } else {
+            ratio.powf(self.gamma) - 1.0
+        };
+        let p = self.b_eos * compression;
+        if self.allow_negative {
+            p
+        } else {
+            p.max(0.0)
+        }
+    }
+}

@@ -1,0 +1,369 @@
+//! A sweep's grid: the points (kernels x N x Re x alpha x c0) a spec spans,
+//! each with its stable id and scene, and the shard a job takes of them.
+
+use std::fmt;
+
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+
+use super::ClassRules;
+use crate::config::{C0Spec, Scene, SceneError};
+use crate::kernels;
+
+/// A point's sound speed: a rule in scene syntax (`derived`, `0.5*rule10`,
+/// a number) or a multiple of U.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointC0 {
+    Spec(C0Spec),
+    OverU(f64),
+}
+
+impl fmt::Display for PointC0 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PointC0::Spec(s) => write!(f, "{s}"),
+            PointC0::OverU(x) => write!(f, "{x}U"),
+        }
+    }
+}
+
+/// One scene of a sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Position in the whole grid (before sharding).
+    pub index: usize,
+    pub kernel: String,
+    pub n: u32,
+    pub re: f64,
+    pub alpha: f64,
+    pub c0: PointC0,
+}
+
+impl Point {
+    /// The stable key of this point: the same grid values give the same id.
+    pub fn id(&self) -> String {
+        format!(
+            "{}/n={}/re={}/alpha={}/c0={}",
+            self.kernel, self.n, self.re, self.alpha, self.c0
+        )
+    }
+
+    /// The scene: the built-in one, `base` over it, then this point's values.
+    pub fn scene(&self, base: &toml::Table) -> Result<Scene, SceneError> {
+        use toml::Value;
+        let mut over = base.clone();
+        over.remove("c0");
+        over.insert("kernel".into(), Value::String(self.kernel.clone()));
+        over.insert("n_layers".into(), Value::Integer(self.n.into()));
+        over.remove("p");
+        over.insert("re".into(), Value::Float(self.re));
+        over.insert("alpha".into(), Value::Float(self.alpha));
+        let mut scene = Scene::load(None, over)?;
+        scene.c0 = match &self.c0 {
+            PointC0::Spec(s) => s.clone(),
+            PointC0::OverU(x) => C0Spec::Value(x * scene.u),
+        };
+        Ok(scene)
+    }
+}
+
+/// A sweep as written in a sweep file (TOML) or given by flags: the grid, the
+/// base scene and the class rules. Its canonical form is stored as
+/// `sweep.toml` in the output folder and identifies the sweep on resume and
+/// merge.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// Kernel names; empty means every kernel.
+    #[serde(default)]
+    pub kernels: Vec<String>,
+    #[serde(default = "default_n")]
+    pub n: Vec<u32>,
+    #[serde(default = "default_re")]
+    pub re: Vec<f64>,
+    #[serde(default = "default_alpha")]
+    pub alpha: Vec<f64>,
+    /// Sound speeds as rules in scene syntax (`derived`, `derived:MODEL`,
+    /// `rule10`, `table2`, `0.5*derived`, a number).
+    #[serde(default)]
+    pub c0: Vec<String>,
+    /// Sound speeds as multiples of U.
+    #[serde(default)]
+    pub c0_over_u: Vec<f64>,
+    #[serde(default)]
+    pub classes: ClassRules,
+    /// Scene fields laid over the built-in scene for every point (e.g.
+    /// `decay_tol`, `initial`, `u`); the grid's fields win.
+    #[serde(default)]
+    pub scene: toml::Table,
+}
+
+fn default_n() -> Vec<u32> {
+    vec![10]
+}
+fn default_re() -> Vec<f64> {
+    vec![1.0, 30.0]
+}
+fn default_alpha() -> Vec<f64> {
+    vec![crate::config::DEFAULT_ALPHA]
+}
+
+impl Default for SweepSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("the empty sweep is valid")
+    }
+}
+
+impl SweepSpec {
+    pub fn from_toml(text: &str, origin: &str) -> Result<SweepSpec> {
+        toml::from_str(text).map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a sweep serialises")
+    }
+
+    /// Fill the defaults (every kernel; derived, rule10 and table2 when no
+    /// c0 is given) and check every value, so that the stored form is
+    /// complete and a bad grid fails before anything runs.
+    pub fn resolved(mut self) -> Result<SweepSpec> {
+        if self.kernels.is_empty() {
+            self.kernels = kernels::NAMES.iter().map(|s| s.to_string()).collect();
+        }
+        if self.c0.is_empty() && self.c0_over_u.is_empty() {
+            self.c0 = vec!["derived".into(), "rule10".into(), "table2".into()];
+        }
+        for k in &self.kernels {
+            crate::config::kernel_info(k)?;
+        }
+        for c in &self.c0 {
+            c.parse::<C0Spec>()
+                .map_err(|e| anyhow::anyhow!("sweep field `c0`: {e}"))?;
+        }
+        let check = |field: &str, empty: bool| -> Result<()> {
+            if empty {
+                bail!("sweep field `{field}` is empty: give at least one value");
+            }
+            Ok(())
+        };
+        check("n", self.n.is_empty())?;
+        check("re", self.re.is_empty())?;
+        check("alpha", self.alpha.is_empty())?;
+        for (field, values) in [("re", &self.re), ("c0_over_u", &self.c0_over_u)] {
+            if let Some(v) = values.iter().find(|v| !(**v > 0.0 && v.is_finite())) {
+                bail!("sweep field `{field}`: {v} must be a positive number");
+            }
+        }
+        for &v in &self.alpha {
+            crate::config::check_alpha(v)
+                .map_err(|e| anyhow::anyhow!("sweep field `alpha`: {e}"))?;
+        }
+        for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
+            if self.scene.contains_key(key) {
+                bail!(
+                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own list \
+                     (kernels, n, re, alpha, c0 or c0_over_u) instead"
+                );
+            }
+        }
+        // The base scene must be a valid scene by itself.
+        Scene::load(None, self.scene.clone())
+            .context("sweep field `scene` does not make a valid scene")?;
+        Ok(self)
+    }
+
+    /// Every point of the grid, in grid order (kernel, N, Re, alpha, c0).
+    pub fn points(&self) -> Vec<Point> {
+        let mut c0s: Vec<PointC0> = self
+            .c0
+            .iter()
+            .map(|c| PointC0::Spec(c.parse().expect("checked by resolved()")))
+            .collect();
+        c0s.extend(self.c0_over_u.iter().map(|&x| PointC0::OverU(x)));
+        let mut out = Vec::new();
+        for kernel in &self.kernels {
+            for &n in &self.n {
+                for &re in &self.re {
+                    for &alpha in &self.alpha {
+                        for c0 in &c0s {
+                            out.push(Point {
+                                index: out.len(),
+                                kernel: kernel.clone(),
+                                n,
+                                re,
+                                alpha,
+                                c0: c0.clone(),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// `--shard k/n`: run only the points whose grid index is k modulo n
+/// (0 <= k < n), so n independent jobs cover the sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub k: usize,
+    pub n: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim() == "auto" {
+            return Shard::from_slurm(|v| std::env::var(v).ok());
+        }
+        let bad = || {
+            format!("bad shard {s:?}: expected K/N with 0 <= K < N, e.g. 0/4 (Slurm: $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)")
+        };
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let (k, n): (usize, usize) = (
+            k.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if n == 0 || k >= n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+impl Shard {
+    /// `--shard auto`: this task's shard of a Slurm job array, k = (ID - MIN)
+    /// / STEP of n = COUNT, from SLURM_ARRAY_TASK_ID, _COUNT, _MIN and
+    /// (optional) _STEP as `var` gives them. Every missing or malformed
+    /// variable is named.
+    pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Result<Shard, String> {
+        let get = |name: &str, required: bool| -> Result<Option<usize>, String> {
+            match var(name) {
+                None if required => Err(format!(
+                    "--shard auto: {name} is not set: run inside a Slurm job array (sbatch --array=0-3), or give --shard K/N"
+                )),
+                None => Ok(None),
+                Some(v) => v.trim().parse::<usize>().map(Some).map_err(|_| {
+                    format!("--shard auto: {name}={v:?} is not a non-negative whole number")
+                }),
+            }
+        };
+        let id = get("SLURM_ARRAY_TASK_ID", true)?.unwrap_or_default();
+        let count = get("SLURM_ARRAY_TASK_COUNT", true)?.unwrap_or_default();
+        let min = get("SLURM_ARRAY_TASK_MIN", true)?.unwrap_or_default();
+        let step = get("SLURM_ARRAY_TASK_STEP", false)?.unwrap_or(1);
+        if count == 0 || step == 0 {
+            return Err(format!(
+                "--shard auto: SLURM_ARRAY_TASK_COUNT={count} and SLURM_ARRAY_TASK_STEP={step} must be positive"
+            ));
+        }
+        if id < min || (id - min) % step != 0 || (id - min) / step >= count {
+            return Err(format!(
+                "--shard auto: task {id} is not one of {count} evenly spaced tasks from {min} by {step} \
+                 (SLURM_ARRAY_TASK_ID, _MIN, _STEP, _COUNT): submit a contiguous array such as --array=0-{}",
+                count - 1
+            ));
+        }
+        Ok(Shard {
+            k: (id - min) / step,
+            n: count,
+        })
+    }
+
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.k
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_auto_reads_the_slurm_array() {
+        let env = |pairs: &'static [(&'static str, &'static str)]| {
+            move |v: &str| {
+                pairs
+                    .iter()
+                    .find(|(k, _)| *k == v)
+                    .map(|(_, x)| x.to_string())
+            }
+        };
+        let s = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "7"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "5"),
+        ]))
+        .unwrap();
+        assert_eq!((s.k, s.n), (2, 4), "k = ID - MIN");
+        let s = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "4"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ]))
+        .unwrap();
+        assert_eq!((s.k, s.n), (2, 3), "--array=0-4:2");
+        // each missing variable is named
+        for (missing, pairs) in [
+            (
+                "SLURM_ARRAY_TASK_ID",
+                &[
+                    ("SLURM_ARRAY_TASK_COUNT", "4"),
+                    ("SLURM_ARRAY_TASK_MIN", "0"),
+                ][..],
+            ),
+            (
+                "SLURM_ARRAY_TASK_COUNT",
+                &[("SLURM_ARRAY_TASK_ID", "1"), ("SLURM_ARRAY_TASK_MIN", "0")][..],
+            ),
+            (
+                "SLURM_ARRAY_TASK_MIN",
+                &[
+                    ("SLURM_ARRAY_TASK_ID", "1"),
+                    ("SLURM_ARRAY_TASK_COUNT", "4"),
+                ][..],
+            ),
+        ] {
+            let e = Shard::from_slurm(|v: &str| {
+                pairs
+                    .iter()
+                    .find(|(k, _)| *k == v)
+                    .map(|(_, x)| x.to_string())
+            })
+            .unwrap_err();
+            assert!(e.contains(&format!("{missing} is not set")), "{e}");
+        }
+        // malformed, and outside the array
+        let e = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "x1"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+        ]))
+        .unwrap_err();
+        assert!(e.contains("SLURM_ARRAY_TASK_ID=\"x1\" is not"), "{e}");
+        let e = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "-1"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+        ]))
+        .unwrap_err();
+        assert!(e.contains("SLURM_ARRAY_TASK_ID"), "{e}");
+        // a list array (--array=1,5,7) is not evenly spaced
+        let e = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "7"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+        ]))
+        .unwrap_err();
+        assert!(e.contains("contiguous array such as --array=0-2"), "{e}");
+        let e = Shard::from_slurm(env(&[
+            ("SLURM_ARRAY_TASK_ID", "0"),
+            ("SLURM_ARRAY_TASK_COUNT", "0"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+        ]))
+        .unwrap_err();
+        assert!(e.contains("must be positive"), "{e}");
+    }
+}
