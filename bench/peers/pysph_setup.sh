@@ -3,6 +3,8 @@
 # machine with Python 3.11 and a C compiler (with OpenMP: gcc). Idempotent: a
 # finished install leaves a marker and is reused. Prints the venv's path.
 # PYSPH_VENV chooses it (default ~/.cache/shearsph-peers/pysph-1.0b2).
+# The build (a few minutes of C++ compilation) runs under `nice -n 19`, so that
+# it takes only idle CPU on a shared machine; PEERS_NICE sets the niceness.
 #
 # What makes 1.0b2 build here (each step is needed, found by trying):
 # - Cython 3 fails on pysph/base/box_sort_nnps.pyx: pin cython<3.
@@ -28,7 +30,7 @@ fi
 echo "pysph_setup: creating $VENV" >&2
 rm -rf "$VENV"
 "$PY" -m venv "$VENV"
-PIP=("$VENV/bin/python" -m pip install --quiet)
+PIP=(nice -n "${PEERS_NICE:-19}" "$VENV/bin/python" -m pip install --quiet)
 exec 3>&1 1>&2  # everything but the final path goes to stderr
 
 "${PIP[@]}" --upgrade "pip" "setuptools<70" "wheel"
