@@ -73,6 +73,9 @@ def main():
     channel = next(p for p in app.particles if p.name == "channel")
     n_fluid = fluid.get_number_of_particles(real=True)
     n_wall = channel.get_number_of_particles(real=True)
+    # The periodic ghosts (copies near x = 0 and Lx) PySPH holds besides.
+    n_ghost = (fluid.get_number_of_particles() - n_fluid
+               + channel.get_number_of_particles() - n_wall)
     y = fluid.y[:n_fluid]
     u = fluid.u[:n_fluid]
     t = solver.t
@@ -93,6 +96,7 @@ def main():
         "particles": particles,
         "n_fluid": n_fluid,
         "n_wall": n_wall,
+        "n_ghost": n_ghost,
         "steps": solver.count,
         "threads": threads,
         "wall_s": wall,

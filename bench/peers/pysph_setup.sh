@@ -21,8 +21,17 @@ VENV=${PYSPH_VENV:-${XDG_CACHE_HOME:-$HOME/.cache}/shearsph-peers/pysph-1.0b2}
 PY=${PYTHON:-python3}
 MARK="$VENV/.pysph-1.0b2-ok"
 
+# matplotlib draws the peer comparisons' ladder chart (peer_chart.py); a venv
+# made before it was added gets it here. numpy stays at the version PySPH
+# was built against.
+matplotlib() {
+  "$VENV/bin/python" -c "import matplotlib" 2> /dev/null ||
+    nice -n "${PEERS_NICE:-19}" "$VENV/bin/python" -m pip install --quiet "matplotlib" "numpy>=1.23,<1.25" >&2
+}
+
 if [ -f "$MARK" ]; then
   echo "pysph_setup: reusing $VENV" >&2
+  matplotlib
   echo "$VENV"
   exit 0
 fi
@@ -59,5 +68,6 @@ open(path, "w").write(text)
 PYEOF
 ( cd "$SRC/pysph-1.0b2" && "${PIP[@]}" --no-build-isolation --no-deps . )
 "$VENV/bin/python" -c "import pysph, pysph.base.nnps, pysph.base.omp_threads; print('pysph', pysph.__version__)" >&2
+matplotlib
 touch "$MARK"
 echo "$VENV" >&3
