@@ -2,7 +2,7 @@
 line per code and thread count, from the CSV peer_summary.py writes
 (--csv). Needs matplotlib: pysph_setup.sh installs it into the PySPH venv.
 
-usage: peer_chart.py LADDER.csv OUT.png [TITLE]
+usage: peer_chart.py LADDER.csv OUT.png [TITLE] [FOOTNOTE]
 """
 import csv
 import os
@@ -26,7 +26,7 @@ def main():
                 (float(r["wall_s"]), float(r["linf_rel_err"]), float(r["half_width"])))
     fig, ax = plt.subplots(figsize=(7, 5))
     for (code, thr), pts in sorted(groups.items()):
-        pts.sort()
+        pts.sort(key=lambda p: p[2])  # joined in order of resolution
         color, marker = STYLE.get(code, ("black", "x"))
         ax.plot([p[0] for p in pts], [p[1] for p in pts], color=color, marker=marker,
                 linestyle="-" if thr == 1 else "--", label=f"{code}, {thr} thread{'s' if thr > 1 else ''}")
@@ -39,7 +39,10 @@ def main():
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.text(0.01, 0.01, "labels: particles across the half-width B", fontsize=7)
+    foot = "labels: particles across the half-width B"
+    if len(sys.argv) > 4:
+        foot += "; " + sys.argv[4]
+    fig.text(0.01, 0.01, foot, fontsize=7)
     fig.tight_layout()
     tmp = out + ".tmp.png"
     fig.savefig(tmp, dpi=120)

@@ -17,7 +17,7 @@ accuracy its own example delivers; the median over rounds), and the tightest
 accuracy that every code and thread count reaches on its ladder (the largest
 of their best errors). The last line is the summary as JSON.
 
-usage: peer_summary.py --peer P.jsonl --ours S.jsonl [--ladder L.jsonl]
+usage: peer_summary.py [--peer P.jsonl] [--ours S.jsonl] [--ladder L.jsonl]
                        [--targets E1,E2] [--csv OUT.csv] [--load TEXT]
 """
 import argparse
@@ -175,7 +175,7 @@ def write_csv(path, runs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--peer", required=True)
+    ap.add_argument("--peer", help="the peer's matched rounds (none: the ladders alone)")
     ap.add_argument("--ours", help="shearsph's matched rounds (none: the peer alone)")
     ap.add_argument("--ladder")
     ap.add_argument("--targets", help="comma-separated Linf/U targets")
@@ -185,8 +185,8 @@ def main():
     if a.load:
         print(a.load)
         print()
-    peer, ours = load(a.peer), (load(a.ours) if a.ours else [])
-    summary = rounds(peer, ours)
+    peer, ours = (load(a.peer) if a.peer else []), (load(a.ours) if a.ours else [])
+    summary = rounds(peer, ours) if peer else {}
     if a.ladder:
         runs = load(a.ladder)
         if a.targets:
@@ -195,9 +195,11 @@ def main():
             groups = {}
             for r in runs:
                 groups.setdefault((side(r), r["threads"]), []).append(r["linf_rel_err"])
-            peer_err = statistics.median(r["linf_rel_err"] for r in peer)
             common = max(min(v) for v in groups.values())
-            targets = sorted({peer_err, common}, reverse=True)
+            targets = {common}
+            if peer:
+                targets.add(statistics.median(r["linf_rel_err"] for r in peer))
+            targets = sorted(targets, reverse=True)
         summary["to_accuracy"] = ladders(runs, targets)
         if a.csv:
             write_csv(a.csv, runs)

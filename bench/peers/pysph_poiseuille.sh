@@ -27,7 +27,7 @@
 #   SHEARSPH_LAYERS  shearsph's ladder: layers in the half-width (default
 #                  "35 30 24 20 16 14 12 10 8 7 6"; 35 is the matched scene)
 #   LADDER_THREADS thread counts of the ladders (default "1 THREADS")
-#   LADDER=0       skip the ladders
+#   LADDER=0       skip the ladders (ROUNDS=0 skips the matched rounds)
 #   TARGETS        Linf/Vmax targets for the time to accuracy (default: see
 #                  peer_summary.py)
 #
@@ -76,7 +76,9 @@ for t in $(printf '%s\n' 1 "$THREADS" $LADDER_THREADS | sort -nu); do
   shearsph "$t" 5 > /dev/null
 done
 
-for r in $(seq "$ROUNDS"); do
+: > "$WORK/pysph.jsonl"
+: > "$WORK/shearsph.jsonl"
+for r in $(seq "$ROUNDS"); do  # ROUNDS=0: the ladders alone
   echo "round $r/$ROUNDS: pysph, $STEPS steps on $THREADS threads" >&2
   pysph "$THREADS" "$STEPS" >> "$WORK/pysph.jsonl"
   echo "round $r/$ROUNDS: shearsph" >&2
@@ -106,7 +108,10 @@ LOAD_AFTER=$(cut -d' ' -f1-3 /proc/loadavg)
 
 NOTE="machine: $(nproc) cores; load average (1, 5, 15 min) before $LOAD_BEFORE, after $LOAD_AFTER"
 NOTE="$NOTE (above about 0.3 other work was running: the timings are then indicative only)"
-SUMMARY_ARGS=(--peer "$WORK/pysph.jsonl" --ours "$WORK/shearsph.jsonl" --load "$NOTE")
+SUMMARY_ARGS=(--load "$NOTE")
+if [ -s "$WORK/pysph.jsonl" ]; then
+  SUMMARY_ARGS+=(--peer "$WORK/pysph.jsonl" --ours "$WORK/shearsph.jsonl")
+fi
 if [ -s "$WORK/ladder.jsonl" ]; then
   SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$WORK/ladder.csv")
 fi
@@ -116,11 +121,12 @@ fi
 python3 "$HERE/peer_summary.py" "${SUMMARY_ARGS[@]}" | tee "$WORK/summary.txt"
 if [ -s "$WORK/ladder.jsonl" ]; then
   "$VENV/bin/python" "$HERE/peer_chart.py" "$WORK/ladder.csv" "$WORK/ladder.png" \
-    "PySPH 1.0b2 (TVF) and shearsph, Poiseuille start-up to t nu/B^2 = $(python3 -c "import json;print(round(json.loads(open('$WORK/pysph.jsonl').readline())['tau'],3))")"
+    "PySPH 1.0b2 (TVF) and shearsph, Poiseuille start-up to t nu/B^2 = $(python3 -c "import json;print(round(json.loads(open('$WORK/ladder.jsonl').readline())['tau'],3))")" \
+    "load average before $LOAD_BEFORE, after $LOAD_AFTER (above about 0.3: indicative only)"
 fi
 # Into OUT, each file whole (rename within OUT's file system).
 for f in pysph.jsonl shearsph.jsonl ladder.jsonl ladder.csv ladder.png summary.txt; do
-  if [ -e "$WORK/$f" ]; then
+  if [ -s "$WORK/$f" ]; then
     cp "$WORK/$f" "$OUT/.$f.tmp" && mv "$OUT/.$f.tmp" "$OUT/$f"
   fi
 done

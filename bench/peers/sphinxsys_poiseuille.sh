@@ -250,7 +250,8 @@ VENV=${PYSPH_VENV:-$CACHE/pysph-1.0b2}
 if [ -s "$WORK/ladder.jsonl" ]; then
   if "$VENV/bin/python" -c "import matplotlib" 2> /dev/null; then
     "$VENV/bin/python" "$HERE/peer_chart.py" "$WORK/ladder.csv" "$WORK/ladder.png" \
-      "SPHinXsys and shearsph, Poiseuille start-up to t nu/B^2 = $TAU"
+      "SPHinXsys and shearsph, Poiseuille start-up to t nu/B^2 = $TAU" \
+      "load average before $LOAD_BEFORE, after $LOAD_AFTER (above about 0.3: indicative only)"
   else
     echo "sphinxsys_poiseuille: no chart (matplotlib comes with the PySPH venv: bench/peers/pysph_setup.sh)" >&2
   fi
