@@ -121,9 +121,10 @@ mkdir -p "$MIRROR" "$BUILD"
 if [ -f "$SRC" ]; then
   if [ ! -f "$BUILD_ROOT/.extracted" ]; then
     # A tarball holds one top folder (SPHinXsys/) or the tree itself.
-    top=$(tar -tzf "$SRC" | head -n 1 | cut -d/ -f1)
+    tar -tzf "$SRC" > "$BUILD_ROOT/.listing"
+    top=$(sed -n 1p "$BUILD_ROOT/.listing" | cut -d/ -f1)
     strip=0
-    tar -tzf "$SRC" | grep -q "^$top/CMakeLists.txt$" && strip=1
+    if grep -qx "$top/CMakeLists.txt" "$BUILD_ROOT/.listing"; then strip=1; fi
     tar -xzf "$SRC" -C "$MIRROR" --strip-components="$strip"
     [ -f "$MIRROR/CMakeLists.txt" ] || die "SRC $SRC: no CMakeLists.txt at the top of the archive"
     touch "$BUILD_ROOT/.extracted"
