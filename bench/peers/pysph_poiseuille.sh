@@ -113,19 +113,19 @@ if [ -s "$WORK/pysph.jsonl" ]; then
   SUMMARY_ARGS+=(--peer "$WORK/pysph.jsonl" --ours "$WORK/shearsph.jsonl")
 fi
 if [ -s "$WORK/ladder.jsonl" ]; then
-  SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$WORK/ladder.csv")
+  SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$OUT/ladder.csv")
 fi
 if [ -n "${TARGETS:-}" ]; then
   SUMMARY_ARGS+=(--targets "$TARGETS")
 fi
 python3 "$HERE/peer_summary.py" "${SUMMARY_ARGS[@]}" | tee "$WORK/summary.txt"
 if [ -s "$WORK/ladder.jsonl" ]; then
-  "$VENV/bin/python" "$HERE/peer_chart.py" "$WORK/ladder.csv" "$WORK/ladder.png" \
+  "$VENV/bin/python" "$HERE/peer_chart.py" "$OUT/ladder.csv" "$OUT/ladder.png" \
     "PySPH 1.0b2 (TVF) and shearsph, Poiseuille start-up to t nu/B^2 = $(python3 -c "import json;print(round(json.loads(open('$WORK/ladder.jsonl').readline())['tau'],3))")" \
     "load average before $LOAD_BEFORE, after $LOAD_AFTER (above about 0.3: indicative only)"
 fi
 # Into OUT, each file whole (rename within OUT's file system).
-for f in pysph.jsonl shearsph.jsonl ladder.jsonl ladder.csv ladder.png summary.txt; do
+for f in pysph.jsonl shearsph.jsonl ladder.jsonl summary.txt; do  # ladder.csv, .png: written in place, atomically
   if [ -s "$WORK/$f" ]; then
     cp "$WORK/$f" "$OUT/.$f.tmp" && mv "$OUT/.$f.tmp" "$OUT/$f"
   fi

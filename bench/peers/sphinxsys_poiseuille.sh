@@ -244,20 +244,20 @@ steps are its acoustic steps (about 5 per advection step, which alone rebuilds t
 and evaluates density, viscous force and transport correction)"
 SUMMARY_ARGS=(--peer "$WORK/sphinxsys.jsonl" --load "$NOTE")
 [ -s "$WORK/shearsph.jsonl" ] && SUMMARY_ARGS+=(--ours "$WORK/shearsph.jsonl")
-[ -s "$WORK/ladder.jsonl" ] && SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$WORK/ladder.csv")
+[ -s "$WORK/ladder.jsonl" ] && SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$OUT/ladder.csv")
 [ -n "${TARGETS:-}" ] && SUMMARY_ARGS+=(--targets "$TARGETS")
 python3 "$HERE/peer_summary.py" "${SUMMARY_ARGS[@]}" | tee "$WORK/summary.txt"
 VENV=${PYSPH_VENV:-$CACHE/pysph-1.0b2}
 if [ -s "$WORK/ladder.jsonl" ]; then
   if "$VENV/bin/python" -c "import matplotlib" 2> /dev/null; then
-    "$VENV/bin/python" "$HERE/peer_chart.py" "$WORK/ladder.csv" "$WORK/ladder.png" \
+    "$VENV/bin/python" "$HERE/peer_chart.py" "$OUT/ladder.csv" "$OUT/ladder.png" \
       "SPHinXsys and shearsph, Poiseuille start-up to t nu/B^2 = $TAU" \
       "load average before $LOAD_BEFORE, after $LOAD_AFTER (above about 0.3: indicative only)"
   else
     echo "sphinxsys_poiseuille: no chart (matplotlib comes with the PySPH venv: bench/peers/pysph_setup.sh)" >&2
   fi
 fi
-for f in sphinxsys.jsonl shearsph.jsonl ladder.jsonl ladder.csv ladder.png summary.txt; do
+for f in sphinxsys.jsonl shearsph.jsonl ladder.jsonl summary.txt; do  # ladder.csv, .png: written in place, atomically
   if [ -s "$WORK/$f" ]; then
     cp "$WORK/$f" "$OUT/.$f.tmp" && mv "$OUT/.$f.tmp" "$OUT/$f"
   fi
