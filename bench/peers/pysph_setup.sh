@@ -3,6 +3,8 @@
 # machine with Python 3.11 and a C compiler (with OpenMP: gcc). Idempotent: a
 # finished install leaves a marker and is reused. Prints the venv's path.
 # PYSPH_VENV chooses it (default ~/.cache/shearsph-peers/pysph-1.0b2).
+# The build (a few minutes of C++ compilation) runs under `nice -n 19`, so that
+# it takes only idle CPU on a shared machine; PEERS_NICE sets the niceness.
 #
 # What makes 1.0b2 build here (each step is needed, found by trying):
 # - Cython 3 fails on pysph/base/box_sort_nnps.pyx: pin cython<3.
@@ -19,8 +21,17 @@ VENV=${PYSPH_VENV:-${XDG_CACHE_HOME:-$HOME/.cache}/shearsph-peers/pysph-1.0b2}
 PY=${PYTHON:-python3}
 MARK="$VENV/.pysph-1.0b2-ok"
 
+# matplotlib draws the peer comparisons' ladder chart (peer_chart.py); a venv
+# made before it was added gets it here. numpy stays at the version PySPH
+# was built against.
+matplotlib() {
+  "$VENV/bin/python" -c "import matplotlib" 2> /dev/null ||
+    nice -n "${PEERS_NICE:-19}" "$VENV/bin/python" -m pip install --quiet "matplotlib" "numpy>=1.23,<1.25" >&2
+}
+
 if [ -f "$MARK" ]; then
   echo "pysph_setup: reusing $VENV" >&2
+  matplotlib
   echo "$VENV"
   exit 0
 fi
@@ -28,7 +39,7 @@ fi
 echo "pysph_setup: creating $VENV" >&2
 rm -rf "$VENV"
 "$PY" -m venv "$VENV"
-PIP=("$VENV/bin/python" -m pip install --quiet)
+PIP=(nice -n "${PEERS_NICE:-19}" "$VENV/bin/python" -m pip install --quiet)
 exec 3>&1 1>&2  # everything but the final path goes to stderr
 
 "${PIP[@]}" --upgrade "pip" "setuptools<70" "wheel"
@@ -57,5 +68,6 @@ open(path, "w").write(text)
 PYEOF
 ( cd "$SRC/pysph-1.0b2" && "${PIP[@]}" --no-build-isolation --no-deps . )
 "$VENV/bin/python" -c "import pysph, pysph.base.nnps, pysph.base.omp_threads; print('pysph', pysph.__version__)" >&2
+matplotlib
 touch "$MARK"
 echo "$VENV" >&3
