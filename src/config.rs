@@ -12,6 +12,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::format::fmt_value;
 use crate::kernel::KernelInfo;
 use crate::kernels;
 
@@ -269,9 +270,9 @@ impl FromStr for C0Spec {
 impl fmt::Display for C0Spec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            C0Spec::Value(v) => write!(f, "{v}"),
+            C0Spec::Value(v) => write!(f, "{}", fmt_value(*v)),
             C0Spec::Rule { factor, rule } if *factor == 1.0 => write!(f, "{rule}"),
-            C0Spec::Rule { factor, rule } => write!(f, "{factor}*{rule}"),
+            C0Spec::Rule { factor, rule } => write!(f, "{}*{rule}", fmt_value(*factor)),
         }
     }
 }
@@ -442,7 +443,10 @@ pub(crate) fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
     if v > 0.0 && v.is_finite() {
         Ok(())
     } else {
-        Err(invalid(field, format!("{v} must be a positive number")))
+        Err(invalid(
+            field,
+            format!("{} must be a positive finite number", fmt_value(v)),
+        ))
     }
 }
 
@@ -453,7 +457,10 @@ pub fn check_alpha(alpha: f64) -> Result<(), SceneError> {
     } else {
         Err(invalid(
             "alpha",
-            format!("{alpha} is outside [0, 1]; the paper takes alpha in (0, 0.25)"),
+            format!(
+                "{} is outside [0, 1]; the paper takes alpha in (0, 0.25)",
+                fmt_value(alpha)
+            ),
         ))
     }
 }
