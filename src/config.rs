@@ -288,16 +288,34 @@ impl Serialize for C0Spec {
 
 impl<'de> Deserialize<'de> for C0Spec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Raw {
-            Number(f64),
-            Text(String),
+        // A visitor, not an untagged enum: anything but a number or a
+        // string (`c0 = true`, a table) gets our message, not serde's
+        // "did not match any variant".
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = C0Spec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "c0 as a number or a rule name ({C0_SYNTAX})")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<C0Spec, E> {
+                Err(E::custom(format!(
+                    "c0 must be a number or a rule name: {C0_SYNTAX}; not {v}"
+                )))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<C0Spec, E> {
+                v.parse().map_err(E::custom)
+            }
         }
-        match Raw::deserialize(d)? {
-            Raw::Number(v) => Ok(C0Spec::Value(v)),
-            Raw::Text(t) => t.parse().map_err(serde::de::Error::custom),
-        }
+        d.deserialize_any(V)
     }
 }
 
@@ -314,6 +332,24 @@ pub enum SceneError {
     UnknownKernel { name: String, known: String },
     #[error("{origin}: {message}")]
     Read { origin: String, message: String },
+}
+
+impl SceneError {
+    /// This error with `flag` as the flag of `field`, for a command whose
+    /// own flag sets that field (bench's `--layers` sets `n_layers`): the
+    /// message names the flag the user typed.
+    pub fn with_flag(self, field: &str, flag: &'static str) -> SceneError {
+        match self {
+            SceneError::Invalid {
+                field: f, message, ..
+            } if f == field => SceneError::Invalid {
+                field: f,
+                flag,
+                message: message.replace(&format!("--{}", flag_of(f)), &format!("--{flag}")),
+            },
+            other => other,
+        }
+    }
 }
 
 /// The flag that sets a scene field.

@@ -162,7 +162,7 @@ pub fn human_bytes(b: f64) -> String {
     } else if b < 1e12 {
         format!("{:.2} GB", b / 1e9)
     } else {
-        format!("{} GB", fmt_value(b / 1e9))
+        format!("{:.2e} GB", b / 1e9)
     }
 }
 
