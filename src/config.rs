@@ -476,12 +476,17 @@ pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
 
 /// Err naming `field` unless `v` is a positive finite number.
 pub(crate) fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
-    if v > 0.0 && v.is_finite() {
+    // Normal, not only positive: a subnormal (below 2.2e-308) has lost its
+    // precision and squares to 0.
+    if v > 0.0 && v.is_normal() {
         Ok(())
     } else {
         Err(invalid(
             field,
-            format!("{} must be a positive finite number", fmt_value(v)),
+            format!(
+                "{} must be a positive finite number (of at least 2.2e-308)",
+                fmt_value(v)
+            ),
         ))
     }
 }

@@ -13,6 +13,7 @@ use crate::kernels;
 /// Time the solver's steps: throughput, ns per pair, memory, GFLOP/s against
 /// the machine's peak, and the growth of the cost with the particle count.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct BenchArgs {
     /// Kernels, comma-separated (default: every kernel).
     #[arg(long, value_delimiter = ',')]

@@ -74,8 +74,12 @@ pub fn by_spec(
     match spec {
         C0Spec::Value(v) => Ok((*v, "value".to_string())),
         C0Spec::Rule { factor, rule } => {
-            positive("c0", *factor)
-                .map_err(|_| invalid("c0", format!("factor {} must be positive", fmt_value(*factor))))?;
+            positive("c0", *factor).map_err(|_| {
+                invalid(
+                    "c0",
+                    format!("factor {} must be positive", fmt_value(*factor)),
+                )
+            })?;
             let (c0, name) = by_rule(rule, info, channel, alpha)?;
             let name = if *factor == 1.0 {
                 name

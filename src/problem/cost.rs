@@ -150,7 +150,8 @@ fn bytes_per_sample(layers: f64) -> f64 {
 /// The estimated memory of a run of `particles` particles listing
 /// `neighbours` each, keeping `samples` samples of `layers` layers.
 pub fn memory_bytes(particles: f64, neighbours: f64, samples: f64, layers: f64) -> f64 {
-    particles * (BYTES_PER_PARTICLE + neighbours * BYTES_PER_PAIR) + samples * bytes_per_sample(layers)
+    particles * (BYTES_PER_PARTICLE + neighbours * BYTES_PER_PAIR)
+        + samples * bytes_per_sample(layers)
 }
 
 /// "288 MB", "3.1 GB".
@@ -177,7 +178,11 @@ pub fn check_size(n_layers: u32, d: f64, h: f64, support: f64) -> Result<(), Sce
     let neighbours = listed_neighbours(d, h, support, ESTIMATE_SKIN);
     let bytes = memory_bytes(particles, neighbours, 0.0, 0.0);
     if !(particles <= MAX_PARTICLES && bytes <= MAX_RUN_BYTES) {
-        let field = if h / d > 100.0 { "h_over_d" } else { "n_layers" };
+        let field = if h / d > 100.0 {
+            "h_over_d"
+        } else {
+            "n_layers"
+        };
         return Err(invalid(
             field,
             format!(
@@ -212,7 +217,11 @@ pub fn check_memory(
     let bytes = memory_bytes(particles, neighbours, samples, layers);
     if !(bytes <= MAX_RUN_BYTES) {
         let kept = samples * bytes_per_sample(layers);
-        let field = if kept > 0.5 * bytes { "output_interval" } else { "n_layers" };
+        let field = if kept > 0.5 * bytes {
+            "output_interval"
+        } else {
+            "n_layers"
+        };
         return Err(invalid(
             field,
             format!(

@@ -74,8 +74,26 @@ impl Problem {
         channel.check_derived(scene)?;
         let t_end = channel.t_end(scene)?;
         let flow_in = channel.flow_inputs(scene);
-        derived("t_end", t_end, &with(&flow_in, &[("decay_tol", scene.decay_tol)]))?;
-        let (c0, c0_rule) = c0::resolve(&scene.c0, info, &channel, scene.alpha)?;
+        derived(
+            "t_end",
+            t_end,
+            &with(&flow_in, &[("decay_tol", scene.decay_tol)]),
+        )?;
+        let (c0, c0_rule) = c0::resolve(&scene.c0, info, &channel, scene.alpha).map_err(|e| {
+            // A rule without a positive c0 at an extreme input (Re =
+            // 1e21 gives A = 1e-20): the input is named, not c0.
+            let mut inputs = with(&flow_in, &[("n_layers", f64::from(scene.n_layers))]);
+            inputs.push(("alpha", scene.alpha.max(1e-3)));
+            let extreme = inputs
+                .iter()
+                .any(|(_, v)| *v != 0.0 && v.abs().log10().abs() > 10.0);
+            match (&scene.c0, extreme) {
+                (C0Spec::Rule { .. }, true) => {
+                    derived(&format!("c0 by {}", scene.c0), -1.0, &inputs).unwrap_err()
+                }
+                _ => e,
+            }
+        })?;
         let est = cost::Estimate::new(&channel, c0, t_end);
         let dt_in = with(&flow_in, &[("h_over_d", scene.h_over_d), ("c0", c0)]);
         derived("the time step dt", est.time_step.dt, &dt_in)?;
@@ -101,7 +119,11 @@ impl Problem {
         let mass = 0.5 * 3f64.sqrt() * d * d * scene.rho0;
         derived("the particle mass", mass, &[("d", d), ("rho0", scene.rho0)])?;
         let mu = scene.rho0 * flow.nu;
-        derived("the dynamic viscosity mu", mu, &with(&flow_in, &[("rho0", scene.rho0)]))?;
+        derived(
+            "the dynamic viscosity mu",
+            mu,
+            &with(&flow_in, &[("rho0", scene.rho0)]),
+        )?;
         let rho_in = [("rho0", scene.rho0), ("c0", c0), ("gamma", scene.gamma)];
         let rho0 = scene.rho0;
         derived("the pressure scale c0^2 rho0", c0 * c0 * rho0, &rho_in)?;
@@ -110,7 +132,11 @@ impl Problem {
         let eos = (1.0 + scene.eps_limit).powf(scene.gamma) * c0 * c0 * rho0 / scene.gamma;
         derived("the EOS pressure at the compaction limit", eos, &eos_in)?;
         let v_limit = 10.0 * scene.u + c0;
-        derived("the speed limit 10 U + c0", v_limit, &[("u", scene.u), ("c0", c0)])?;
+        derived(
+            "the speed limit 10 U + c0",
+            v_limit,
+            &[("u", scene.u), ("c0", c0)],
+        )?;
         Ok(Problem {
             scene: scene.clone(),
             kernel: info,

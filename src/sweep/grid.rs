@@ -166,7 +166,10 @@ impl SweepSpec {
         fn dup<T: PartialEq + std::fmt::Debug>(field: &str, v: &[T]) -> Result<()> {
             for (i, a) in v.iter().enumerate() {
                 if v[..i].contains(a) {
-                    bail!("sweep field `{field}` (flag --{}) gives {a:?} twice: give each value once", field.replace('_', "-"));
+                    bail!(
+                        "sweep field `{field}` (flag --{}) gives {a:?} twice: give each value once",
+                        field.replace('_', "-")
+                    );
                 }
             }
             Ok(())

@@ -208,8 +208,10 @@ fn read_spec(dir: &Path) -> Result<Option<SweepSpec>> {
 /// no file is added; it ends when the returned handle drops or the process
 /// ends, however it ends.
 pub fn lock(dir: &Path) -> Result<std::fs::File> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating sweep folder {}", dir.display()))?;
-    let f = std::fs::File::open(dir).with_context(|| format!("opening sweep folder {}", dir.display()))?;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating sweep folder {}", dir.display()))?;
+    let f = std::fs::File::open(dir)
+        .with_context(|| format!("opening sweep folder {}", dir.display()))?;
     match f.try_lock() {
         Ok(()) => Ok(f),
         Err(std::fs::TryLockError::WouldBlock) => bail!(
