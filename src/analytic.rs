@@ -10,6 +10,13 @@ use serde::Serialize;
 /// bound on the rest is below this times U.
 const SERIES_TOL: f64 = 1e-15;
 
+/// Below this tau = pi^2 nu t / L^2 the start-up is summed as its image
+/// series in erfc instead of the sine series: the sine series needs about
+/// sqrt(36 / tau) terms (1,000 here, 1e7 at tau = 1e-13), the image series
+/// at most a few (each image is L / (2 sqrt(nu t)) >= 260 diffusion lengths
+/// farther, so erfc of it is 0).
+const SMALL_TAU: f64 = 4e-5;
+
 /// Plane Poiseuille flow: half-width `b`, centre-line speed `u` (U), kinematic
 /// viscosity `nu` and body force per unit mass `p`, tied by (9):
 /// 2 nu U / B^2 = p.
@@ -66,6 +73,9 @@ impl Poiseuille {
         let yp = y + self.b;
         let amplitude = 4.0 * self.p * l * l / (self.nu * PI.powi(3));
         let tau = PI * PI * self.nu * t / (l * l);
+        if tau < SMALL_TAU {
+            return self.startup_small_t(yp, t);
+        }
         let tol = SERIES_TOL * self.u;
         let mut sum = 0.0;
         let mut k = 1.0_f64;
@@ -85,6 +95,32 @@ impl Poiseuille {
             k += 2.0;
         }
         self.p / (2.0 * self.nu) * yp * (l - yp) - sum
+    }
+
+    /// The start-up at small t by images: u = p t - w, where w solves the
+    /// diffusion equation with w = p t on both walls, the alternating sum
+    /// over images of the half-space solution p t 4 i^2erfc(z), z = distance
+    /// / (2 sqrt(nu t)), 4 i^2erfc(z) = (1 + 2 z^2) erfc(z) - 2 z exp(-z^2) /
+    /// sqrt(pi). Exact; it is summed until the images' erfc vanish.
+    fn startup_small_t(&self, yp: f64, t: f64) -> f64 {
+        let l = 2.0 * self.b;
+        let scale = 2.0 * (self.nu * t).sqrt();
+        let half_space = |dist: f64| {
+            let z = dist / scale;
+            (1.0 + 2.0 * z * z) * libm::erfc(z) - 2.0 * z * (-z * z).exp() / PI.sqrt()
+        };
+        let mut w = 0.0;
+        let mut sign = 1.0;
+        for n in 0..64 {
+            let n = f64::from(n);
+            let pair = half_space(yp + n * l) + half_space((n + 1.0) * l - yp);
+            w += sign * pair;
+            sign = -sign;
+            if pair == 0.0 {
+                break;
+            }
+        }
+        self.p * t * (1.0 - w)
     }
 
     /// Time for the slowest mode of the start-up series to fall below `tol`
@@ -135,6 +171,30 @@ mod tests {
                 (f.startup(y + hy, t) - 2.0 * f.startup(y, t) + f.startup(y - hy, t)) / (hy * hy);
             assert!((dudt - (f.nu * d2u + f.p)).abs() < 1e-5, "y = {y}");
         }
+    }
+
+    #[test]
+    fn small_t_images_match_the_sine_series() {
+        // Where both are valid (tau just above and well above SMALL_TAU the
+        // sine series is used; the image series is exact at every t), they
+        // agree to rounding; below SMALL_TAU the image form is used.
+        let f = flow();
+        let l = 2.0 * f.b;
+        for tau in [5e-5, 1e-4, 1e-3, 1e-2] {
+            let t = tau * l * l / (PI * PI * f.nu);
+            for &y in &[-2.99, -2.9, -1.0, 0.0, 0.5, 2.95] {
+                let series = f.startup(y, t);
+                let images = f.startup_small_t(y + f.b, t);
+                assert!(
+                    (series - images).abs() < 1e-13 * f.u,
+                    "tau {tau} y {y}: {series} vs {images}"
+                );
+            }
+        }
+        // Tiny t: the centre moves as p t, the wall layer less.
+        let t = 1e-12;
+        assert!((f.startup(0.0, t) - f.p * t).abs() < 1e-15 * f.p * t);
+        assert!(f.startup(-f.b + 1e-9, t) < f.p * t);
     }
 
     #[test]

@@ -87,6 +87,21 @@ pub fn scene(kernel: &str) -> Scene {
 pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
     let info = scene.kernel_info()?;
     let h = scene.h_over_d * scene.d;
+    // Refused before the search, with the estimate: a count the memory
+    // bound (or the lattice's u32 counts) cannot hold.
+    let neighbours = crate::problem::cost::listed_neighbours(scene.d, h, info.support, scene.skin);
+    let bytes = crate::problem::cost::memory_bytes(target as f64, neighbours, 0.0, 0.0);
+    let max = crate::problem::cost::MAX_RUN_BYTES;
+    if !(bytes <= max && (target as f64) <= crate::problem::cost::MAX_PARTICLES) {
+        bail!(
+            "--particles {}: the scene would take about {} of memory ({} neighbours each), over the \
+             bound of {}; give fewer particles",
+            crate::format::fmt_value(target as f64),
+            crate::problem::cost::human_bytes(bytes),
+            neighbours.round(),
+            crate::problem::cost::human_bytes(max)
+        );
+    }
     let count = |n: u32| Lattice::new(n, scene.d, h, info.support).n_particles();
     // Particles grow by 2 C per layer: start from the estimate, then step.
     let per_layer = 2 * Lattice::new(1, scene.d, h, info.support).columns as usize;
@@ -102,7 +117,7 @@ pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
     s.n_layers = n;
     while let Err(e) = Problem::resolve(&s, info) {
         if s.n_layers > 1_000 {
-            return Err(e.into());
+            return Err(e.with_flag("n_layers", "particles").into());
         }
         s.n_layers += 1;
     }
@@ -306,6 +321,9 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
     }
     if opts.threads.contains(&0) {
         bail!("--threads must be at least 1");
+    }
+    if opts.steps == Some(0) {
+        bail!("--steps must be at least 1: a measurement of no steps has no throughput");
     }
     let machine = Machine::detect();
     let mut rows = Vec::new();
@@ -526,7 +544,8 @@ pub fn pysph_match_problem(wall_velocity: WallVelocity, layers: u32) -> Result<P
         t_end: Some(1e-6),
         ..Scene::builtin()
     };
-    let mut problem = Problem::resolve(&scene, scene.kernel_info()?)?;
+    let mut problem = Problem::resolve(&scene, scene.kernel_info()?)
+        .map_err(|e| e.with_flag("n_layers", "layers"))?;
     if layers == PYSPH_MATCH_LAYERS {
         // A wider strip than the kernel needs, to match the particle count:
         // the flow does not depend on x.

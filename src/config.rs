@@ -12,6 +12,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::format::fmt_value;
 use crate::kernel::KernelInfo;
 use crate::kernels;
 
@@ -269,9 +270,9 @@ impl FromStr for C0Spec {
 impl fmt::Display for C0Spec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            C0Spec::Value(v) => write!(f, "{v}"),
+            C0Spec::Value(v) => write!(f, "{}", fmt_value(*v)),
             C0Spec::Rule { factor, rule } if *factor == 1.0 => write!(f, "{rule}"),
-            C0Spec::Rule { factor, rule } => write!(f, "{factor}*{rule}"),
+            C0Spec::Rule { factor, rule } => write!(f, "{}*{rule}", fmt_value(*factor)),
         }
     }
 }
@@ -287,16 +288,34 @@ impl Serialize for C0Spec {
 
 impl<'de> Deserialize<'de> for C0Spec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Raw {
-            Number(f64),
-            Text(String),
+        // A visitor, not an untagged enum: anything but a number or a
+        // string (`c0 = true`, a table) gets our message, not serde's
+        // "did not match any variant".
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = C0Spec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "c0 as a number or a rule name ({C0_SYNTAX})")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<C0Spec, E> {
+                Err(E::custom(format!(
+                    "c0 must be a number or a rule name: {C0_SYNTAX}; not {v}"
+                )))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<C0Spec, E> {
+                Ok(C0Spec::Value(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<C0Spec, E> {
+                v.parse().map_err(E::custom)
+            }
         }
-        match Raw::deserialize(d)? {
-            Raw::Number(v) => Ok(C0Spec::Value(v)),
-            Raw::Text(t) => t.parse().map_err(serde::de::Error::custom),
-        }
+        d.deserialize_any(V)
     }
 }
 
@@ -313,6 +332,24 @@ pub enum SceneError {
     UnknownKernel { name: String, known: String },
     #[error("{origin}: {message}")]
     Read { origin: String, message: String },
+}
+
+impl SceneError {
+    /// This error with `flag` as the flag of `field`, for a command whose
+    /// own flag sets that field (bench's `--layers` sets `n_layers`): the
+    /// message names the flag the user typed.
+    pub fn with_flag(self, field: &str, flag: &'static str) -> SceneError {
+        match self {
+            SceneError::Invalid {
+                field: f, message, ..
+            } if f == field => SceneError::Invalid {
+                field: f,
+                flag,
+                message: message.replace(&format!("--{}", flag_of(f)), &format!("--{flag}")),
+            },
+            other => other,
+        }
+    }
 }
 
 /// The flag that sets a scene field.
@@ -439,10 +476,18 @@ pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
 
 /// Err naming `field` unless `v` is a positive finite number.
 pub(crate) fn positive(field: &'static str, v: f64) -> Result<(), SceneError> {
-    if v > 0.0 && v.is_finite() {
+    // Normal, not only positive: a subnormal (below 2.2e-308) has lost its
+    // precision and squares to 0.
+    if v > 0.0 && v.is_normal() {
         Ok(())
     } else {
-        Err(invalid(field, format!("{v} must be a positive number")))
+        Err(invalid(
+            field,
+            format!(
+                "{} must be a positive finite number (of at least 2.2e-308)",
+                fmt_value(v)
+            ),
+        ))
     }
 }
 
@@ -453,7 +498,10 @@ pub fn check_alpha(alpha: f64) -> Result<(), SceneError> {
     } else {
         Err(invalid(
             "alpha",
-            format!("{alpha} is outside [0, 1]; the paper takes alpha in (0, 0.25)"),
+            format!(
+                "{} is outside [0, 1]; the paper takes alpha in (0, 0.25)",
+                fmt_value(alpha)
+            ),
         ))
     }
 }

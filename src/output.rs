@@ -166,7 +166,22 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
         }
     }
     std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output folder {}", dir.display()))
+        .with_context(|| format!("creating output folder {}", dir.display()))?;
+    // Writable? A probe file of our own, created and removed now, so a
+    // read-only folder is found before the run, not after it.
+    let probe = dir.join(format!(".shearsph-probe-{}", std::process::id()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .with_context(|| {
+            format!(
+                "output folder {} is not writable (a test file could not be created there); \
+                 fix its permissions or choose another with --out",
+                dir.display()
+            )
+        })?;
+    std::fs::remove_file(&probe).with_context(|| format!("removing {}", probe.display()))
 }
 
 /// Write `bytes` to `path` atomically: a new file beside it (same folder,

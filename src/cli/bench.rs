@@ -13,6 +13,7 @@ use crate::kernels;
 /// Time the solver's steps: throughput, ns per pair, memory, GFLOP/s against
 /// the machine's peak, and the growth of the cost with the particle count.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct BenchArgs {
     /// Kernels, comma-separated (default: every kernel).
     #[arg(long, value_delimiter = ',')]
@@ -66,6 +67,20 @@ fn parse_count(s: &str) -> Result<usize, String> {
 }
 
 pub fn main(args: BenchArgs) -> Result<ExitCode> {
+    // Every count flag at least 1 (clap's u64/usize/u32 already refuse
+    // negative, fractional and non-finite values, naming the flag).
+    if args.steps == Some(0) {
+        bail!("--steps must be at least 1: a measurement of no steps has no throughput");
+    }
+    if args.repeats == 0 {
+        bail!("--repeats must be at least 1");
+    }
+    if args.threads.contains(&0) {
+        bail!("--threads must be at least 1");
+    }
+    if args.pysph_match && args.layers == 0 {
+        bail!("--layers must be at least 1 (35 is PySPH's resolution)");
+    }
     if args.pysph_match {
         let threads = args
             .threads

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use super::interrupt::stop_on_ctrl_c;
+use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::sweep::scenes_bar;
 use crate::report::{self, Config, Options};
 use crate::sweep::Parallel;
@@ -48,14 +48,24 @@ pub fn main(args: ReportArgs) -> Result<ExitCode> {
         (None, true) => Config::quick(),
         (None, false) => Config::default_full(),
     };
-    let stop = stop_on_ctrl_c()?;
+    let stop = stop_on_ctrl_c_saying(
+        "stopping the report's scenes; the report keeps only files already complete",
+    )?;
     let bar = scenes_bar(args.quiet);
     let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
     let opts = Options {
         par: Parallel::new(args.jobs, 1),
         force: args.force,
     };
-    let data = report::run(&config, args.quick, &args.out, opts, &stop, &bar, &log)?;
+    let data = match report::run(&config, args.quick, &args.out, opts, &stop, &bar, &log) {
+        Ok(data) => data,
+        Err(e) if stop.load(std::sync::atomic::Ordering::SeqCst) => {
+            bar.finish_and_clear();
+            eprintln!("{e}");
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
+        Err(e) => return Err(e),
+    };
     for v in &data.verdicts {
         println!("{}", v.summary);
     }

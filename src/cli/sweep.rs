@@ -104,7 +104,7 @@ pub struct RunSweepArgs {
     pub force: bool,
     /// Run only grid points k, k + n, k + 2n, ... (0 <= k < n); `auto` takes
     /// k and n from a Slurm job array (SLURM_ARRAY_TASK_ID - _MIN, _COUNT).
-    #[arg(long, value_name = "K/N|auto")]
+    #[arg(long, value_name = "K/N|auto", allow_hyphen_values = true)]
     pub shard: Option<Shard>,
     /// Scenes at once (default: cores / threads-per-scene).
     #[arg(long)]
@@ -251,6 +251,16 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     if !args.no_charts {
         write_charts(&args.out, &r.spec, &r.rows)?;
+    }
+    if let Some(s) = args.shard {
+        if r.ran + r.already + r.remaining == 0 {
+            eprintln!(
+                "warning: shard {}/{} gets no point of the {}-point grid (points k, k + n, ...): it ran nothing",
+                s.k,
+                s.n,
+                r.spec.points().len()
+            );
+        }
     }
     let count = |c: Class| r.rows.iter().filter(|row| row.class == c).count();
     let summary = SweepReport {

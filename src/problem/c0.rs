@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::channel::Channel;
 use super::cost::{DtLimit, Estimate};
 use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError};
+use crate::format::fmt_value;
 use crate::kernel::KernelInfo;
 
 /// c0 for a base rule (factor 1), with the rule's canonical name.
@@ -73,13 +74,17 @@ pub fn by_spec(
     match spec {
         C0Spec::Value(v) => Ok((*v, "value".to_string())),
         C0Spec::Rule { factor, rule } => {
-            positive("c0", *factor)
-                .map_err(|_| invalid("c0", format!("factor {factor} must be positive")))?;
+            positive("c0", *factor).map_err(|_| {
+                invalid(
+                    "c0",
+                    format!("factor {} must be positive", fmt_value(*factor)),
+                )
+            })?;
             let (c0, name) = by_rule(rule, info, channel, alpha)?;
             let name = if *factor == 1.0 {
                 name
             } else {
-                format!("{factor}*{name}")
+                format!("{}*{name}", fmt_value(*factor))
             };
             Ok((factor * c0, name))
         }
@@ -100,9 +105,10 @@ pub fn resolve(
         Err(invalid(
             "c0",
             format!(
-                "{spec} gives c0 = {c0} for this scene, which is not a positive sound speed (a derived \
+                "{spec} gives c0 = {} for this scene, which is not a positive sound speed (a derived \
                  model without a positive root, or a non-positive number); give a positive number or \
-                 another rule (`shearsph c0` lists them)"
+                 another rule (`shearsph c0` lists them)",
+                fmt_value(c0)
             ),
         ))
     }

@@ -4,6 +4,7 @@
 
 use crate::analytic::Poiseuille;
 use crate::config::{invalid, positive, Scene, SceneError};
+use crate::format::fmt_value;
 use crate::kernel::KernelInfo;
 
 use super::lattice::{Lattice, CLOSED_TOL};
@@ -29,10 +30,14 @@ impl Channel {
                 "skin",
                 format!(
                     "{} (in h) must be in (0, R) = (0, {support}) for kernel {}",
-                    scene.skin, info.name
+                    fmt_value(scene.skin),
+                    info.name
                 ),
             ));
         }
+        positive("d", d)?;
+        positive("h_over_d", scene.h_over_d)?;
+        super::cost::check_size(scene.n_layers, d, h, support)?;
         let lattice = Lattice::new(scene.n_layers, d, h, support);
         // The centre line's support must not reach the wall (closed support).
         let n_min = (support * h * (1.0 + CLOSED_TOL) / lattice.dy).floor() as u32 + 1;
@@ -79,8 +84,49 @@ impl Channel {
                 positive("t_end", t)?;
                 Ok(t)
             }
-            None => Ok(self.flow.decay_time(scene.decay_tol)),
+            None => {
+                let tol = scene.decay_tol;
+                let amplitude = 32.0 / std::f64::consts::PI.powi(3);
+                if !(tol > 0.0 && tol < amplitude) {
+                    return Err(invalid(
+                        "decay_tol",
+                        format!(
+                            "{} must be in (0, {}), below the slowest start-up mode's amplitude \
+                             32 / pi^3 U: at or above it the default end time is 0 (or set t_end)",
+                            fmt_value(tol),
+                            fmt_value(amplitude)
+                        ),
+                    ));
+                }
+                Ok(self.flow.decay_time(tol))
+            }
         }
+    }
+
+    /// The inputs the flow (B, nu, p, Re) is computed from, for the error
+    /// of a derived quantity that is not a finite positive number.
+    pub fn flow_inputs(&self, scene: &Scene) -> Vec<(&'static str, f64)> {
+        let mut v = vec![("d", scene.d), ("u", scene.u)];
+        match (scene.re, scene.p) {
+            (Some(re), _) => v.push(("re", re)),
+            (None, Some(p)) => v.push(("p", p)),
+            (None, None) => {}
+        }
+        v
+    }
+
+    /// B, nu, p, Re and A each finite and positive, or an error naming the
+    /// input that made one not.
+    pub fn check_derived(&self, scene: &Scene) -> Result<(), SceneError> {
+        let n = f64::from(scene.n_layers);
+        let inputs = self.flow_inputs(scene);
+        let b_in = [("d", scene.d), ("n_layers", n)];
+        super::derived("the half-width B = N dy", self.flow.b, &b_in)?;
+        let all = super::with(&inputs, &[("n_layers", n)]);
+        super::derived("the viscosity nu", self.flow.nu, &all)?;
+        super::derived("the body force p", self.flow.p, &all)?;
+        super::derived("the Reynolds number Re", self.re, &all)?;
+        super::derived("the paper's A = p d N^4 / U^2", self.a_param(), &all)
     }
 
     /// The paper's parameter of Table 2, A = p d N^4 / U^2.

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::channel::Channel;
 use crate::config::{invalid, SceneError};
+use crate::format::fmt_value;
 
 /// Seconds per pair evaluation assumed by the run-time estimate: the
 /// solver's measured cost (about 8 ns per listed pair and pass for the cubic
@@ -106,10 +107,139 @@ impl Estimate {
     pub fn seconds(&self, channel: &Channel, support: f64) -> f64 {
         let lattice = &channel.lattice;
         let particles = lattice.n_particles() as f64;
-        let neighbours = std::f64::consts::PI * (support * lattice.h).powi(2)
-            / (0.5 * 3f64.sqrt() * lattice.d * lattice.d);
+        let neighbours = listed_neighbours(lattice.d, lattice.h, support, ESTIMATE_SKIN);
         self.steps * particles * neighbours * 2.0 * EST_S_PER_PAIR_PASS
     }
+}
+
+/// The skin the run-time estimate and the size check assume: the scene
+/// default's 0.3 h (a channel carries no skin; the memory check passes the
+/// scene's own).
+const ESTIMATE_SKIN: f64 = 0.3;
+
+/// Neighbours listed per particle at spacing `d`: every lattice site within
+/// (R + skin) h, the list's reach (it grows as (h / d)^2).
+pub fn listed_neighbours(d: f64, h: f64, support: f64, skin: f64) -> f64 {
+    // As (h / d)^2, so a huge or tiny d cannot overflow the squares.
+    std::f64::consts::PI * ((support + skin) * (h / d)).powi(2) / (0.5 * 3f64.sqrt())
+}
+
+/// Memory a run may take before it is refused: 2 GiB, so that a sweep's
+/// parallel runs fit this project's 24 GiB machines and a laptop.
+pub const MAX_RUN_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Largest particle count (fluid and wall) of a channel: far above what
+/// MAX_RUN_BYTES allows, and below where the counts (u32 per layer and
+/// column) overflow.
+pub const MAX_PARTICLES: f64 = 1e9;
+
+/// Bytes per particle of the solver's state (16 f64 arrays and the u32
+/// index arrays of the neighbour search) and per listed pair (the index and
+/// the two cached kernel values), with half again for vector growth.
+const BYTES_PER_PARTICLE: f64 = 1.5 * (16.0 * 8.0 + 8.0 * 4.0);
+const BYTES_PER_PAIR: f64 = 1.5 * (4.0 + 8.0 + 8.0);
+
+/// Bytes of one kept sample: its figures and one profile row per layer
+/// (fluid and wall), as kept in memory and as written to the CSV.
+fn bytes_per_sample(layers: f64) -> f64 {
+    let sample = std::mem::size_of::<[f64; 12]>() as f64;
+    let row = std::mem::size_of::<[f64; 6]>() as f64;
+    sample + 150.0 + layers * row
+}
+
+/// The estimated memory of a run of `particles` particles listing
+/// `neighbours` each, keeping `samples` samples of `layers` layers.
+pub fn memory_bytes(particles: f64, neighbours: f64, samples: f64, layers: f64) -> f64 {
+    particles * (BYTES_PER_PARTICLE + neighbours * BYTES_PER_PAIR)
+        + samples * bytes_per_sample(layers)
+}
+
+/// "288 MB", "3.1 GB".
+pub fn human_bytes(b: f64) -> String {
+    if b < 1e6 {
+        format!("{:.0} kB", b / 1e3)
+    } else if b < 1e9 {
+        format!("{:.0} MB", b / 1e6)
+    } else if b < 1e12 {
+        format!("{:.2} GB", b / 1e9)
+    } else {
+        format!("{:.2e} GB", b / 1e9)
+    }
+}
+
+/// Refuse a lattice of more than [`MAX_PARTICLES`] particles before it is
+/// built (the counts would overflow, the memory could not be had).
+pub fn check_size(n_layers: u32, d: f64, h: f64, support: f64) -> Result<(), SceneError> {
+    let reach = support * h * (1.0 + super::lattice::CLOSED_TOL);
+    let dy = 0.5 * 3f64.sqrt() * d;
+    let columns = (2.0 * reach / d).floor() + 1.0;
+    let walls = (reach / dy).floor();
+    let particles = (2.0 * f64::from(n_layers) - 1.0 + 2.0 * walls) * columns;
+    let neighbours = listed_neighbours(d, h, support, ESTIMATE_SKIN);
+    let bytes = memory_bytes(particles, neighbours, 0.0, 0.0);
+    if !(particles <= MAX_PARTICLES && bytes <= MAX_RUN_BYTES) {
+        let field = if h / d > 100.0 {
+            "h_over_d"
+        } else {
+            "n_layers"
+        };
+        return Err(invalid(
+            field,
+            format!(
+                "n_layers = {n_layers} with h = {} d gives {} particles ({} neighbours each), about {} of \
+                 memory, over the bound of {} particles and {}: lower --n or --h-over-d",
+                fmt_value(h / d),
+                fmt_value(particles),
+                fmt_value(neighbours.round()),
+                human_bytes(bytes),
+                fmt_value(MAX_PARTICLES),
+                human_bytes(MAX_RUN_BYTES)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuse a run whose kept samples (t_end / output_interval of them), state
+/// and neighbour lists would take more than [`MAX_RUN_BYTES`].
+pub fn check_memory(
+    channel: &Channel,
+    support: f64,
+    skin: f64,
+    t_end: f64,
+    output_interval: f64,
+) -> Result<(), SceneError> {
+    let lattice = &channel.lattice;
+    let samples = (t_end / output_interval).ceil() + 2.0;
+    let layers = f64::from(lattice.fluid_layers()) + 2.0 * f64::from(lattice.wall_layers);
+    let particles = lattice.n_particles() as f64;
+    let neighbours = listed_neighbours(lattice.d, lattice.h, support, skin);
+    let bytes = memory_bytes(particles, neighbours, samples, layers);
+    if !(bytes <= MAX_RUN_BYTES) {
+        let kept = samples * bytes_per_sample(layers);
+        let field = if kept > 0.5 * bytes {
+            "output_interval"
+        } else {
+            "n_layers"
+        };
+        return Err(invalid(
+            field,
+            format!(
+                "the run would take about {} of memory ({} samples kept, t_end / output_interval = {} / {}, \
+                 {}; {particles} particles with {} neighbours each, {}), over the bound of {}; raise \
+                 --output-interval, or lower --n / --h-over-d, or shorten --t-end",
+                human_bytes(bytes),
+                fmt_value(samples),
+                fmt_value(t_end),
+                fmt_value(output_interval),
+                human_bytes(kept),
+                fmt_value(neighbours.round()),
+                human_bytes(bytes - kept),
+                human_bytes(MAX_RUN_BYTES)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuse a run estimated to take longer than `max_run_s` on one core.
@@ -122,7 +252,8 @@ pub fn check_run_time(
 ) -> Result<(), SceneError> {
     let est = Estimate::new(channel, c0, t_end);
     let est_s = est.seconds(channel, support);
-    if est_s > max_run_s {
+    // A NaN estimate (from an infinite step count) is refused too.
+    if !(est_s <= max_run_s) {
         let particles = channel.lattice.n_particles() as f64;
         return Err(invalid(
             "max_run_s",
@@ -134,7 +265,7 @@ pub fn check_run_time(
                 est.steps,
                 est.time_step.dt,
                 est.time_step.limit.name(),
-                max_run_s
+                fmt_value(max_run_s)
             ),
         ));
     }
@@ -149,7 +280,9 @@ fn human_seconds(s: f64) -> String {
         format!("{:.1} min", s / 60.0)
     } else if s < 172_800.0 {
         format!("{:.1} h", s / 3600.0)
-    } else {
+    } else if s < 8.64e9 {
         format!("{:.1} days", s / 86400.0)
+    } else {
+        format!("{:.2e} days", s / 86400.0)
     }
 }

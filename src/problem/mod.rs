@@ -18,6 +18,7 @@ use crate::config::{invalid, positive, C0Spec, Scene};
 /// The configuration's value types a problem carries, for the solver, which
 /// reads the problem only.
 pub use crate::config::{Initial, PressureForm, SceneError, WallVelocity};
+use crate::format::fmt_value;
 use crate::kernel::KernelInfo;
 use channel::Channel;
 use lattice::Lattice;
@@ -70,8 +71,34 @@ impl Problem {
     pub fn resolve(scene: &Scene, info: &'static KernelInfo) -> Result<Problem, SceneError> {
         check_fields(scene)?;
         let channel = Channel::resolve(scene, info)?;
-        let (c0, c0_rule) = c0::resolve(&scene.c0, info, &channel, scene.alpha)?;
+        channel.check_derived(scene)?;
         let t_end = channel.t_end(scene)?;
+        let flow_in = channel.flow_inputs(scene);
+        derived(
+            "t_end",
+            t_end,
+            &with(&flow_in, &[("decay_tol", scene.decay_tol)]),
+        )?;
+        let (c0, c0_rule) = c0::resolve(&scene.c0, info, &channel, scene.alpha).map_err(|e| {
+            // A rule without a positive c0 at an extreme input (Re =
+            // 1e21 gives A = 1e-20): the input is named, not c0.
+            let mut inputs = with(&flow_in, &[("n_layers", f64::from(scene.n_layers))]);
+            inputs.push(("alpha", scene.alpha.max(1e-3)));
+            let extreme = inputs
+                .iter()
+                .any(|(_, v)| *v != 0.0 && v.abs().log10().abs() > 10.0);
+            match (&scene.c0, extreme) {
+                (C0Spec::Rule { .. }, true) => {
+                    derived(&format!("c0 by {}", scene.c0), -1.0, &inputs).unwrap_err()
+                }
+                _ => e,
+            }
+        })?;
+        let est = cost::Estimate::new(&channel, c0, t_end);
+        let dt_in = with(&flow_in, &[("h_over_d", scene.h_over_d), ("c0", c0)]);
+        derived("the time step dt", est.time_step.dt, &dt_in)?;
+        let step_in = with(&dt_in, &[("t_end", t_end)]);
+        derived("the step count t_end / dt", est.steps, &step_in)?;
         positive("max_run_s", scene.max_run_s)?;
         cost::check_run_time(&channel, info.support, c0, t_end, scene.max_run_s)?;
         let output_interval = match scene.output_interval {
@@ -81,16 +108,43 @@ impl Problem {
             }
             None => t_end / 20.0,
         };
+        derived(
+            "the output interval",
+            output_interval,
+            &with(&step_in, &[("output_interval", output_interval)]),
+        )?;
+        cost::check_memory(&channel, info.support, scene.skin, t_end, output_interval)?;
         let Channel { lattice, flow, re } = channel;
         let d = lattice.d;
+        let mass = 0.5 * 3f64.sqrt() * d * d * scene.rho0;
+        derived("the particle mass", mass, &[("d", d), ("rho0", scene.rho0)])?;
+        let mu = scene.rho0 * flow.nu;
+        derived(
+            "the dynamic viscosity mu",
+            mu,
+            &with(&flow_in, &[("rho0", scene.rho0)]),
+        )?;
+        let rho_in = [("rho0", scene.rho0), ("c0", c0), ("gamma", scene.gamma)];
+        let rho0 = scene.rho0;
+        derived("the pressure scale c0^2 rho0", c0 * c0 * rho0, &rho_in)?;
+        derived("1 / rho0^2 (of P / rho^2)", 1.0 / (rho0 * rho0), &rho_in)?;
+        let eos_in = [("gamma", scene.gamma), ("eps_limit", scene.eps_limit)];
+        let eos = (1.0 + scene.eps_limit).powf(scene.gamma) * c0 * c0 * rho0 / scene.gamma;
+        derived("the EOS pressure at the compaction limit", eos, &eos_in)?;
+        let v_limit = 10.0 * scene.u + c0;
+        derived(
+            "the speed limit 10 U + c0",
+            v_limit,
+            &[("u", scene.u), ("c0", c0)],
+        )?;
         Ok(Problem {
             scene: scene.clone(),
             kernel: info,
             lattice,
             re,
             rho0: scene.rho0,
-            mass: 0.5 * 3f64.sqrt() * d * d * scene.rho0,
-            mu: scene.rho0 * flow.nu,
+            mass,
+            mu,
             flow,
             c0,
             c0_rule,
@@ -105,7 +159,7 @@ impl Problem {
             t_end,
             output_interval,
             initial: scene.initial,
-            v_limit: 10.0 * scene.u + c0,
+            v_limit,
         })
     }
 
@@ -149,6 +203,65 @@ impl Problem {
     }
 }
 
+/// `a` and then `b`: the inputs of a quantity derived from others.
+pub(crate) fn with(
+    a: &[(&'static str, f64)],
+    b: &[(&'static str, f64)],
+) -> Vec<(&'static str, f64)> {
+    a.iter().chain(b).copied().collect()
+}
+
+/// Err unless the derived quantity `name` is a finite positive number. The
+/// error names the input that made it so: of the inputs it was computed
+/// from (`(field, value)`), the one farthest from 1 in magnitude (an input
+/// of 1e300 or 1e-300 is what overflows or underflows), and lists the rest.
+pub(crate) fn derived(
+    name: &str,
+    value: f64,
+    inputs: &[(&'static str, f64)],
+) -> Result<(), SceneError> {
+    // Normal, not only positive: a subnormal (below 2.2e-308) has lost its
+    // precision, and its square is 0.
+    if value > 0.0 && value.is_normal() {
+        return Ok(());
+    }
+    let extremity = |v: f64| {
+        if v == 0.0 || !v.is_finite() {
+            f64::INFINITY
+        } else {
+            v.abs().ln().abs()
+        }
+    };
+    let (field, v) = inputs
+        .iter()
+        .copied()
+        .fold(("d", f64::NEG_INFINITY), |best, (f, v)| {
+            if extremity(v) > best.1 {
+                (f, extremity(v))
+            } else {
+                best
+            }
+        });
+    let given = inputs
+        .iter()
+        .map(|(f, v)| format!("{f} = {}", fmt_value(*v)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let value_of = inputs
+        .iter()
+        .find(|(f, _)| *f == field)
+        .map_or(v, |(_, v)| *v);
+    Err(invalid(
+        field,
+        format!(
+            "{} makes {name} = {}, not a finite positive number (it comes from {given}); bring \
+             {field} nearer the others' scale",
+            fmt_value(value_of),
+            fmt_value(value)
+        ),
+    ))
+}
+
 /// The scene's own fields that need no kernel: ranges and signs.
 pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
     positive("d", scene.d)?;
@@ -160,14 +273,17 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
     if !(0.0..0.5).contains(&scene.jitter) {
         return Err(invalid(
             "jitter",
-            format!("{} (in d) must be in [0, 0.5)", scene.jitter),
+            format!("{} (in d) must be in [0, 0.5)", fmt_value(scene.jitter)),
         ));
     }
     crate::config::check_alpha(scene.alpha)?;
     if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
         return Err(invalid(
             "gamma",
-            format!("{} must be at least 1 (1 is the paper's (13))", scene.gamma),
+            format!(
+                "{} must be at least 1 (1 is the paper's (13))",
+                fmt_value(scene.gamma)
+            ),
         ));
     }
     Ok(())

@@ -158,6 +158,42 @@ impl SweepSpec {
             crate::config::check_alpha(v)
                 .map_err(|e| anyhow::anyhow!("sweep field `alpha`: {e}"))?;
         }
+        if self.n.contains(&0) {
+            bail!("sweep field `n` (flag --n): 0 is not a number of layers; give N >= 1");
+        }
+        // A repeated value would run (and count) one point twice: an error,
+        // for every list alike.
+        fn dup<T: PartialEq + std::fmt::Debug>(field: &str, v: &[T]) -> Result<()> {
+            for (i, a) in v.iter().enumerate() {
+                if v[..i].contains(a) {
+                    bail!(
+                        "sweep field `{field}` (flag --{}) gives {a:?} twice: give each value once",
+                        field.replace('_', "-")
+                    );
+                }
+            }
+            Ok(())
+        }
+        dup("kernels", &self.kernels)?;
+        dup("n", &self.n)?;
+        dup("re", &self.re)?;
+        dup("alpha", &self.alpha)?;
+        dup("c0", &self.c0)?;
+        dup("c0_over_u", &self.c0_over_u)?;
+        let b = self.classes.linf_bound;
+        if !(b > 0.0 && b.is_finite()) {
+            bail!(
+                "sweep field `classes.linf_bound` (flag --linf-bound): {} must be a positive finite L_inf error / U",
+                crate::format::fmt_value(b)
+            );
+        }
+        let m = self.classes.eps_margin;
+        if !(m >= 0.0 && m.is_finite()) {
+            bail!(
+                "sweep field `classes.eps_margin` (flag --eps-margin): {} must be a finite compaction >= 0",
+                crate::format::fmt_value(m)
+            );
+        }
         for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
             if self.scene.contains_key(key) {
                 bail!(

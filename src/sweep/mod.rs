@@ -392,6 +392,8 @@ pub fn run_sweep(
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
 ) -> Result<SweepRun> {
+    // One sweep per folder at a time: the lock is held until this returns.
+    let _lock = store::lock(dir)?;
     let (spec, done) = store::open(dir, spec, force)?;
     let done_ids: BTreeSet<String> = done.iter().map(|r| r.id.clone()).collect();
     let (already, todo): (Vec<Point>, Vec<Point>) = spec

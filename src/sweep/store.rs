@@ -202,6 +202,28 @@ fn read_spec(dir: &Path) -> Result<Option<SweepSpec>> {
     }
 }
 
+/// Lock the sweep folder `dir` (created if missing) for this process: a
+/// second sweep into it refuses at once instead of duplicating rows or
+/// mixing files. The lock is the folder's own (flock on its descriptor), so
+/// no file is added; it ends when the returned handle drops or the process
+/// ends, however it ends.
+pub fn lock(dir: &Path) -> Result<std::fs::File> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating sweep folder {}", dir.display()))?;
+    let f = std::fs::File::open(dir)
+        .with_context(|| format!("opening sweep folder {}", dir.display()))?;
+    match f.try_lock() {
+        Ok(()) => Ok(f),
+        Err(std::fs::TryLockError::WouldBlock) => bail!(
+            "sweep folder {} is in use by another sweep (locked): wait for it to finish, or choose another --out",
+            dir.display()
+        ),
+        Err(std::fs::TryLockError::Error(e)) => {
+            Err(e).with_context(|| format!("locking sweep folder {}", dir.display()))
+        }
+    }
+}
+
 /// Open a sweep folder. With a `spec`: start it there (an existing folder
 /// must hold the same sweep, whose finished rows are kept, unless `force`
 /// starts over). Without: resume the sweep the folder holds. Returns the
@@ -221,6 +243,18 @@ pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSp
                 }
             }
             let rows = read_rows(&dir.join(JSONL_FILE))?;
+            let ids: std::collections::BTreeSet<String> =
+                stored.points().iter().map(|p| p.id()).collect();
+            let total = rows.len();
+            let rows: Vec<Row> = rows.into_iter().filter(|r| ids.contains(&r.id)).collect();
+            if rows.len() < total {
+                eprintln!(
+                    "warning: {} row(s) of {} have an id that is not a point of this sweep's grid: \
+                     skipped (not counted, not written to {CSV_FILE})",
+                    total - rows.len(),
+                    dir.join(JSONL_FILE).display()
+                );
+            }
             Ok((stored, canonical(rows)))
         }
         (stored, spec) => {
