@@ -155,13 +155,10 @@ impl Observer for ParticleOutput<'_> {
 pub fn failure_mark(result: &RunResult) -> Option<Mark> {
     match &result.outcome {
         Outcome::Failed {
-            failure,
-            particle,
-            t,
-            ..
+            failure, particle, ..
         } => Some(Mark {
             index: particle.index,
-            label: format!("particle {}: {failure} at t = {t:.4}", particle.index),
+            label: format!("particle {} ({})", particle.index, failure.kind().name()),
         }),
         _ => None,
     }
@@ -172,9 +169,10 @@ pub fn failure_mark(result: &RunResult) -> Option<Mark> {
 pub fn picture_svg(last: &Snapshot, result: &RunResult) -> Result<String> {
     let mark = failure_mark(result);
     let title = format!(
-        "{} N = {}: particles at t = {:.4} ({})",
+        "{} N = {}, c0 / U = {}: particles at t = {:.4} ({})",
         result.kernel,
         result.problem.lattice.n_layers,
+        crate::format::fmt_num(result.problem.c0 / result.problem.flow.u),
         last.time,
         result.outcome.status()
     );
