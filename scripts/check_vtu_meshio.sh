@@ -28,3 +28,10 @@ print(f"fluid: {(~wall).sum()} (summary: {s['fluid_particles']})")
 print(f"mean fluid eps: {eps[~wall].mean():.15e} (summary: {s['mean_eps']:.15e})")
 print(f"max fluid eps now: {eps[~wall].max():.6e}; velocity[0] = {m.point_data['velocity'][0]}")
 PY
+# Output of one run (2026-12-01, meshio 5.3.5):
+#   meshio 5.3.5 read particles_00020.vtu (t = 243.56037629403332)
+#   points: 115 (summary: 115), cells: ['vertex']
+#   point arrays: ['velocity', 'density', 'pressure', 'eps', 'wall', 'layer']
+#   fluid: 95 (summary: 95)
+#   mean fluid eps: -1.415557318762508e-03 (summary: -1.415557318762508e-03)
+#   max fluid eps now: 6.396418e-03; velocity[0] = [1.96084706e-01 3.52849565e-05 0.00000000e+00]
