@@ -298,7 +298,7 @@ fn what_run_writes_reads_back() {
         .map(|e| e.0)
         .collect();
     let mut want: Vec<f64> = times.iter().copied().step_by(3).collect();
-    if (times.len() - 1) % 3 != 0 {
+    if !(times.len() - 1).is_multiple_of(3) {
         want.push(*times.last().unwrap());
     }
     assert_eq!(kept, want);

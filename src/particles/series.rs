@@ -189,7 +189,8 @@ pub fn write_picture(dir: &Path, last: &Snapshot, result: &RunResult) -> Result<
 /// particles.
 pub fn series_size(outputs: u64, every: u64, particles: usize) -> (u64, f64) {
     let every = every.max(1);
-    let frames = outputs.div_ceil(every) + u64::from(outputs > 0 && (outputs - 1) % every != 0);
+    let frames =
+        outputs.div_ceil(every) + u64::from(outputs > 0 && !(outputs - 1).is_multiple_of(every));
     (
         frames,
         frames as f64 * particles as f64 * VTU_BYTES_PER_PARTICLE,
