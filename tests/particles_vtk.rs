@@ -192,3 +192,233 @@ fn size_per_thousand_particles() {
         assert!(per_thousand > 120e3, "{per_thousand}");
     }
 }
+
+/// `shearsph run ARGS --out DIR --quiet --json` into a fresh folder: the
+/// exit status and the summary.
+fn run_cli(dir: &std::path::Path, args: &[&str]) -> (i32, serde_json::Value) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .arg("run")
+        .args(args)
+        .arg("--out")
+        .arg(dir)
+        .args(["--quiet", "--json"])
+        .output()
+        .unwrap();
+    let summary = std::fs::read_to_string(dir.join("summary.json"))
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    (
+        out.status.code().unwrap(),
+        serde_json::from_str(&summary).unwrap(),
+    )
+}
+
+/// The times of `timeseries.csv` (its first column), as written.
+fn timeseries_times(dir: &std::path::Path) -> Vec<f64> {
+    std::fs::read_to_string(dir.join("timeseries.csv"))
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn what_run_writes_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("run");
+    let (code, summary) = run_cli(&d, &["--kernel", "monaghan", "--n", "6", "--re", "10"]);
+    assert_eq!(code, 0, "{summary}");
+    let particles = summary["particles"].as_u64().unwrap() as usize;
+    let fluid = summary["fluid_particles"].as_u64().unwrap() as usize;
+    let times = timeseries_times(&d);
+    assert!(times.len() >= 3, "{times:?}");
+    let entries = read_pvd(&d.join("particles.pvd")).unwrap();
+    let pvd_times: Vec<f64> = entries.iter().map(|e| e.0).collect();
+    assert_eq!(
+        pvd_times, times,
+        "one snapshot per output time, bit for bit"
+    );
+    assert_eq!(*times.last().unwrap(), summary["t_end"].as_f64().unwrap());
+    for (_, file) in &entries {
+        let (points, arrays) = read_vtu(&d.join(file));
+        assert_eq!(points.len(), 3 * particles, "{file}: particle count");
+        let names: Vec<&str> = arrays.iter().map(|a| a.0.as_str()).collect();
+        assert_eq!(names, FIELDS, "{file}");
+        let get = |name: &str| arrays.iter().find(|a| a.0 == name).unwrap().1.clone();
+        let wall = get("wall").cast_into::<u8>().unwrap();
+        assert_eq!(wall.iter().filter(|&&w| w == 0).count(), fluid, "{file}");
+        // eps is the density's: rho / rho0 - 1 (rho0 = 1 in the built-in scene)
+        let (rho, eps) = (
+            get("density").cast_into::<f64>().unwrap(),
+            get("eps").cast_into::<f64>().unwrap(),
+        );
+        for (r, e) in rho.iter().zip(&eps) {
+            assert_eq!(*e, r / summary_rho0(&d) - 1.0);
+        }
+    }
+    // the last snapshot's mean fluid eps is the summary's mean eps
+    let (_, arrays) = read_vtu(&d.join(&entries.last().unwrap().1));
+    let get = |name: &str| arrays.iter().find(|a| a.0 == name).unwrap().1.clone();
+    let (eps, wall) = (
+        get("eps").cast_into::<f64>().unwrap(),
+        get("wall").cast_into::<u8>().unwrap(),
+    );
+    let mean: f64 = eps
+        .iter()
+        .zip(&wall)
+        .filter(|(_, &w)| w == 0)
+        .map(|(e, _)| e)
+        .sum::<f64>()
+        / fluid as f64;
+    let want = summary["mean_eps"].as_f64().unwrap();
+    assert!(
+        (mean - want).abs() <= 1e-12 * want.abs().max(1e-9),
+        "{mean} vs {want}"
+    );
+    assert!(d.join("particles.svg").exists());
+
+    // --particles-every 3: outputs 0, 3, 6, ... and the last; --no-particles: none
+    let d3 = dir.path().join("every3");
+    run_cli(
+        &d3,
+        &[
+            "--kernel",
+            "monaghan",
+            "--n",
+            "6",
+            "--re",
+            "10",
+            "--particles-every",
+            "3",
+        ],
+    );
+    let kept: Vec<f64> = read_pvd(&d3.join("particles.pvd"))
+        .unwrap()
+        .iter()
+        .map(|e| e.0)
+        .collect();
+    let mut want: Vec<f64> = times.iter().copied().step_by(3).collect();
+    if !(times.len() - 1).is_multiple_of(3) {
+        want.push(*times.last().unwrap());
+    }
+    assert_eq!(kept, want);
+    let none = dir.path().join("none");
+    run_cli(
+        &none,
+        &[
+            "--kernel",
+            "monaghan",
+            "--n",
+            "6",
+            "--re",
+            "10",
+            "--no-particles",
+        ],
+    );
+    let vtk_files = std::fs::read_dir(&none)
+        .unwrap()
+        .filter(|e| {
+            let n = e
+                .as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .into_owned();
+            n.ends_with(".vtu") || n.ends_with(".pvd")
+        })
+        .count();
+    assert_eq!(vtk_files, 0);
+    assert!(none.join("particles.svg").exists(), "the picture still");
+}
+
+fn summary_rho0(dir: &std::path::Path) -> f64 {
+    let scene: toml::Table = std::fs::read_to_string(dir.join("scene.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    scene["rho0"].as_float().unwrap()
+}
+
+/// `(cx, cy, filled)` of every `<circle>` in an SVG, in order.
+fn circles(svg: &str) -> Vec<(f64, f64, bool)> {
+    let attr = |c: &str, name: &str| -> f64 {
+        let key = format!(" {name}=\"");
+        let at = c.find(&key).unwrap() + key.len();
+        c[at..].split('"').next().unwrap().parse().unwrap()
+    };
+    svg.split("<circle")
+        .skip(1)
+        .map(|c| {
+            let c = c.split("/>").next().unwrap();
+            (attr(c, "cx"), attr(c, "cy"), !c.contains("fill=\"none\""))
+        })
+        .collect()
+}
+
+#[test]
+fn a_failed_runs_picture_marks_the_failing_particle() {
+    // tests/solver.rs's failing scene: a jittered start with c0 = 0.1 U
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("failed");
+    let (code, summary) = run_cli(
+        &d,
+        &[
+            "--kernel",
+            "monaghan",
+            "--n",
+            "8",
+            "--re",
+            "10",
+            "--alpha",
+            "0",
+            "--jitter",
+            "0.05",
+            "--c0",
+            "0.01*rule10",
+        ],
+    );
+    assert_eq!(code, 3, "{summary}");
+    assert_eq!(summary["outcome"], "failed");
+    let p = &summary["failure_particle"];
+    let index = p["index"].as_u64().unwrap() as usize;
+    // the series ends at the failure, and there the failing particle is
+    // where the summary says
+    let entries = read_pvd(&d.join("particles.pvd")).unwrap();
+    let last = entries.last().unwrap();
+    assert_eq!(last.0, summary["failure_t"].as_f64().unwrap());
+    let (points, arrays) = read_vtu(&d.join(&last.1));
+    assert_eq!(points[3 * index], p["x"].as_f64().unwrap());
+    assert_eq!(points[3 * index + 1], p["y"].as_f64().unwrap());
+    let wall = arrays
+        .iter()
+        .find(|a| a.0 == "wall")
+        .unwrap()
+        .1
+        .cast_into::<u8>()
+        .unwrap();
+    assert_eq!(wall[index], 0, "a fluid particle");
+    // the picture: one ring, labelled with the particle, centred on that
+    // particle's dot (fluid dots are drawn in index order)
+    let svg = std::fs::read_to_string(d.join("particles.svg")).unwrap();
+    let all = circles(&svg);
+    let rings: Vec<_> = all.iter().filter(|c| !c.2).collect();
+    assert_eq!(rings.len(), 1, "one ring");
+    let dots: Vec<_> = all.iter().filter(|c| c.2).collect();
+    let fluid_before = wall[..index].iter().filter(|&&w| w == 0).count();
+    let dot = dots[fluid_before];
+    assert_eq!(
+        (rings[0].0, rings[0].1),
+        (dot.0, dot.1),
+        "the ring is on particle {index}"
+    );
+    assert!(
+        svg.contains(&format!("particle {index} (compaction)")),
+        "the label"
+    );
+    assert!(svg.contains("(failed)"), "the title says how the run ended");
+    // a run that did not fail has no ring
+    let ok = dir.path().join("ok");
+    run_cli(&ok, &["--kernel", "monaghan", "--n", "6", "--re", "10"]);
+    let svg = std::fs::read_to_string(ok.join("particles.svg")).unwrap();
+    assert!(circles(&svg).iter().all(|c| c.2));
+}

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use plotters::prelude::*;
 
-use super::chart_err;
+use super::{chart_err, LogAxis};
 use crate::solver::{Outcome, RunResult, Sample};
 
 const SIZE: (u32, u32) = (900, 650);
@@ -126,16 +126,18 @@ pub fn timeseries_svg(r: &RunResult) -> Result<String> {
         } else {
             (1e-6, 1.0)
         };
+        let (y_coord, y_axis) = LogAxis::new(lo, hi, 8);
         let mut chart = ChartBuilder::on(&panels[0])
             .caption("velocity error / U (layer means)", ("sans-serif", 18))
             .margin(10)
             .x_label_area_size(35)
             .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, (lo..hi).log_scale())
+            .build_cartesian_2d(0.0..t_max, y_coord)
             .map_err(chart_err)?;
         chart
             .configure_mesh()
             .x_desc("t")
+            .y_label_formatter(&|v| y_axis.label(v))
             .draw()
             .map_err(chart_err)?;
         for (pts, name, color) in [(linf, "L_inf", RED), (l2, "L2", BLUE)] {

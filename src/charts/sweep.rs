@@ -9,7 +9,7 @@ use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::chart_err;
+use super::{chart_err, LogAxis};
 use crate::format::fmt_num;
 use crate::problem::cost::DtLimit;
 use crate::solver::FailureKind;
@@ -337,19 +337,21 @@ fn speed_panel(
             limits.join(", ")
         }
     );
+    let (x_coord, x_axis) = LogAxis::new(xlo, xhi, 8);
+    let (y_coord, y_axis) = LogAxis::new(ylo, yhi, 8);
     let mut chart = ChartBuilder::on(area)
         .caption(caption, ("sans-serif", 16))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+        .build_cartesian_2d(x_coord, y_coord)
         .map_err(chart_err)?;
     chart
         .configure_mesh()
         .x_desc(cost.label())
         .y_desc("worst L_inf error / U")
-        .x_label_formatter(&|v| fmt_num(*v))
-        .y_label_formatter(&|v| fmt_num(*v))
+        .x_label_formatter(&|v| x_axis.label(v))
+        .y_label_formatter(&|v| y_axis.label(v))
         .draw()
         .map_err(chart_err)?;
 
@@ -497,20 +499,22 @@ pub fn map_svg(
         let root = SVGBackend::with_string(&mut svg, (1020, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
         let (plot, legend) = root.split_horizontally(760);
+        let (x_coord, x_axis) = LogAxis::new(xlo, xhi, 8);
+        let (y_coord, y_axis) = LogAxis::new(ylo, yhi, 8);
         let mut chart = ChartBuilder::on(&plot)
             .caption(title, ("sans-serif", 16))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(55)
-            .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+            .build_cartesian_2d(x_coord, y_coord)
             .map_err(chart_err)?;
         chart
             .configure_mesh()
             .x_desc("c0 / U")
             .y_desc("Re")
             .light_line_style(RGBColor(245, 245, 245))
-            .x_label_formatter(&|v| fmt_num(*v))
-            .y_label_formatter(&|v| fmt_num(*v))
+            .x_label_formatter(&|v| x_axis.label(v))
+            .y_label_formatter(&|v| y_axis.label(v))
             .draw()
             .map_err(chart_err)?;
         for class in Class::ALL {

@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
 use crate::output::{self, Summary};
+use crate::particles::series::{self, ParticleOutput};
 use crate::problem::Problem;
 use crate::run::run_problem;
 use crate::solver::{Observer, Outcome, Sample};
@@ -42,6 +43,14 @@ pub struct RunArgs {
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Write no particle snapshots (`particles.pvd` and its `.vtu` files);
+    /// the picture `particles.svg` is still drawn.
+    #[arg(long)]
+    pub no_particles: bool,
+    /// Keep every K-th output time's particle snapshot (from t = 0; the
+    /// last one always).
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub particles_every: u64,
 }
 
 pub fn main(args: RunArgs) -> Result<ExitCode> {
@@ -69,16 +78,34 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
             "running {} N = {} to t = {:.6} (Ctrl-C stops and writes the outputs so far)",
             scene.kernel, problem.lattice.n_layers, problem.t_end
         );
+        if !args.no_particles {
+            let particles = problem.lattice.n_particles();
+            let outputs = series::output_times(problem.t_end, problem.output_interval);
+            let (frames, bytes) = series::series_size(outputs, args.particles_every, particles);
+            eprintln!(
+                "particle snapshots: {frames} of {particles} particles, about {:.1} MB in {} \
+                 ({:.0} kB per 1,000 particles each; --particles-every K or --no-particles for fewer)",
+                bytes / 1e6,
+                args.out.join("particles.pvd").display(),
+                series::VTU_BYTES_PER_PARTICLE
+            );
+        }
     }
     let mut progress = Progress {
         bar: bar.clone(),
         t_end: problem.t_end,
         stop,
     };
-    let result = run_problem(&problem, &mut progress);
+    let every = (!args.no_particles).then_some(args.particles_every);
+    let mut observer = ParticleOutput::new(&mut progress, &args.out, every);
+    let result = run_problem(&problem, &mut observer);
     bar.finish_and_clear();
+    let last = observer.finish();
 
     output::write_outputs(&args.out, &result, true)?;
+    if let Some(last) = last? {
+        series::write_picture(&args.out, &last, &result)?;
+    }
     let summary = Summary::new(&result);
     if args.json {
         println!("{}", summary.to_json());

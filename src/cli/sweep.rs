@@ -58,6 +58,10 @@ pub struct MergeArgs {
 #[derive(Debug, Args)]
 #[command(allow_negative_numbers = true)]
 pub struct RunSweepArgs {
+    /// Write each point's particle snapshots (every K-th output time, the
+    /// last always) and picture under OUT/particles/POINT/ (none by default).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    pub particles_every: Option<u64>,
     /// Sweep file (TOML).
     #[arg(long, value_name = "FILE")]
     pub sweep: Option<PathBuf>,
@@ -238,7 +242,7 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
     let stop = stop_on_ctrl_c()?;
     let bar = scenes_bar(args.quiet);
     let par = Parallel::new(args.jobs, args.threads_per_scene);
-    let r = sweep::run_sweep(
+    let r = sweep::run_sweep_with(
         &args.out,
         spec,
         args.force,
@@ -247,6 +251,7 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
         &stop,
         &bar,
         &|_| {},
+        args.particles_every,
     )?;
     bar.finish_and_clear();
     if !args.no_charts {

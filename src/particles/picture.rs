@@ -183,7 +183,11 @@ pub fn particle_svg(
             .disable_x_axis()
             .y_labels(6)
             .y_label_style(("sans-serif", 13))
-            .y_label_formatter(&|v| crate::format::fmt_num(*v))
+            .y_label_formatter(&|v| {
+                // a tick at round-off from zero reads 0, not -5.55e-17
+                let v = if v.abs() <= 1e-9 * (c1 - c0) { 0.0 } else { *v };
+                crate::format::fmt_num(v)
+            })
             .draw()
             .map_err(draw_err)?;
         let steps = 64;

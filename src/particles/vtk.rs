@@ -17,24 +17,9 @@ use vtkio::model::{
     Version, VertexNumbers, Vtk,
 };
 
-/// The particle field at one time, as the solver holds it (structure of
-/// arrays, all of one length).
-#[derive(Debug, Clone, Copy)]
-pub struct ParticleFrame<'a> {
-    pub time: f64,
-    pub x: &'a [f64],
-    pub y: &'a [f64],
-    pub vx: &'a [f64],
-    pub vy: &'a [f64],
-    pub density: &'a [f64],
-    pub pressure: &'a [f64],
-    /// Compaction eps = rho / rho0 - 1.
-    pub eps: &'a [f64],
-    /// Wall particle (true) or fluid (false).
-    pub wall: &'a [bool],
-    /// Layer index n (the paper's layer; walls continue the count).
-    pub layer: &'a [i32],
-}
+/// The particle field at one time: the solver's type (it lends one to an
+/// observer at each output time), re-exported here beside its writers.
+pub use crate::solver::ParticleFrame;
 
 /// The names of the point arrays in every `.vtu`, in file order.
 pub const FIELDS: [&str; 6] = ["velocity", "density", "pressure", "eps", "wall", "layer"];

@@ -324,6 +324,10 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         class_hex(Class::Failed)
     );
     h.push_str(&figures_html(figures, "stability"));
+    if figures.iter().any(|f| f.id == "failure") {
+        h.push_str("<h3 id=\"failures\">Where the method fails</h3>\n<p>Per kernel, the first run of its stability map that the solver stopped (first in grid order), run again with the same scene and drawn at the failure: fluid particles coloured by the compaction eps, walls grey, the particle that triggered the failure ringed in red.</p>\n");
+        h.push_str(&figures_html(figures, "failure"));
+    }
 
     // Empirical.
     h.push_str("<h2 id=\"empirical\">Empirical c0</h2>\n");

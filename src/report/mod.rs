@@ -27,10 +27,12 @@ use crate::config::{C0Rule, C0Spec};
 use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
 use crate::output::{prepare_dir, write_atomic};
+use crate::particles::series::{picture_svg, ParticleOutput};
 use crate::problem::c0::{all_rules, by_rule};
 use crate::problem::channel::Channel;
 use crate::solver::ideal_shear;
-use crate::sweep::{self, store, ClassRules, Parallel, Point, PointC0, Row};
+use crate::solver::FailureKind;
+use crate::sweep::{self, store, Class, ClassRules, Parallel, Point, PointC0, Row};
 
 pub use empirical::Empirical;
 pub use tables::{C0Compare, EpsCompare, Table2Row};
@@ -587,6 +589,16 @@ fn write(d: &ReportData, out: &Path) -> Result<()> {
             csv_files: vec![csv, lines_csv],
             svg,
         });
+        if let Some(svg) = failure_picture(d, &here)? {
+            let svg_file = format!("failure_{k}.svg");
+            put(&svg_file, &svg)?;
+            figures.push(html::Figure {
+                id: "failure",
+                svg_file,
+                csv_files: Vec::new(),
+                svg,
+            });
+        }
     }
 
     put("table1.csv", &tables::table1_csv(&d.table1))?;
@@ -602,6 +614,36 @@ fn write(d: &ReportData, out: &Path) -> Result<()> {
     put("verdicts.json", &serde_json::to_string_pretty(&d.verdicts)?)?;
     put("index.html", &html::page(d, &figures))?;
     Ok(())
+}
+
+/// Where the method fails: the first run of a kernel's stability map (grid
+/// order) that the solver stopped, run again (the solver's results are the
+/// same bits on any thread count, so it fails at the same step) keeping
+/// only its last particle field, drawn with the failing particle ringed.
+/// `None` when no run of the map failed in the solver.
+fn failure_picture(d: &ReportData, map: &[&Row]) -> Result<Option<String>> {
+    let Some(row) = map.iter().find(|r| {
+        r.class == Class::Failed
+            && r.failure_kind.is_some_and(|k| {
+                !matches!(
+                    k,
+                    FailureKind::NoC0 | FailureKind::Scene | FailureKind::Panic
+                )
+            })
+    }) else {
+        return Ok(None);
+    };
+    let Some(point) = d.config.points().into_iter().find(|p| p.id() == row.id) else {
+        return Ok(None);
+    };
+    let scene = point.scene(&d.config.scene)?;
+    let mut quiet = crate::solver::Quiet;
+    let mut observer = ParticleOutput::new(&mut quiet, Path::new("."), None);
+    let result = crate::run::run_scene(&scene, &mut observer)?;
+    let Some(last) = observer.finish()? else {
+        return Ok(None);
+    };
+    Ok(Some(picture_svg(&last, &result)?))
 }
 
 #[cfg(test)]

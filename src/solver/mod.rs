@@ -12,6 +12,7 @@
 //! 5. the checks for blow-up, every step.
 
 mod diagnostics;
+mod frame;
 pub mod ideal_shear;
 pub mod neighbours;
 mod result;
@@ -25,10 +26,12 @@ use serde::Serialize;
 use crate::kernel::Kernel;
 use crate::problem::cost::TimeStep;
 use crate::problem::Problem;
+use frame::FrameBuf;
 use neighbours::{Displacements, Entry, NeighbourList};
 use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
+pub use frame::ParticleFrame;
 pub use result::{DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult};
 
 /// Useful floating-point operations of one step per directed pair within
@@ -75,6 +78,14 @@ pub trait Observer: Send {
     fn should_stop(&self) -> bool {
         false
     }
+    /// Whether [`Observer::particles`] is wanted: asked once, before the
+    /// first output. `false` (the default) costs the run nothing.
+    fn wants_particles(&self) -> bool {
+        false
+    }
+    /// Right after every [`Observer::output`], when [`Observer::wants_particles`]:
+    /// the particle field at that time (lent; copy what is to be kept).
+    fn particles(&mut self, _frame: &ParticleFrame) {}
 }
 
 /// An observer that ignores everything.
@@ -280,9 +291,16 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
     let mut max_eps_run = sim.max_eps;
     let mut dt_stats = DtStats::new(&sim.time_step());
 
-    let first = sim.sample(0.0, 0, dt_stats.last);
-    observer.output(&first);
-    let mut samples = vec![first];
+    let mut frames = observer.wants_particles().then(FrameBuf::default);
+    let mut samples = Vec::new();
+    let mut observe = |sim: &Sim, sample: Sample, observer: &mut dyn Observer| {
+        observer.output(&sample);
+        if let Some(buf) = frames.as_mut() {
+            observer.particles(&buf.frame(&sim.s, sim.problem, sample.t));
+        }
+        samples.push(sample);
+    };
+    observe(&sim, sim.sample(0.0, 0, dt_stats.last), observer);
 
     let t_end = problem.t_end;
     let mut t = 0.0;
@@ -315,9 +333,7 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         observer.step(t, steps);
 
         if let Some(failure) = sim.failure(&check) {
-            let last = sim.sample(t, steps, dt);
-            observer.output(&last);
-            samples.push(last);
+            observe(&sim, sim.sample(t, steps, dt), observer);
             outcome = Outcome::Failed {
                 particle: sim.culprit(&failure),
                 failure,
@@ -328,16 +344,12 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         }
         if landing {
             outputs_done += 1;
-            let out = sim.sample(t, steps, dt_stats.last);
-            observer.output(&out);
-            samples.push(out);
+            observe(&sim, sim.sample(t, steps, dt_stats.last), observer);
         }
         if observer.should_stop() {
             // The last sample at the time reached, unless this step took it.
             if !landing {
-                let last = sim.sample(t, steps, dt_stats.last);
-                observer.output(&last);
-                samples.push(last);
+                observe(&sim, sim.sample(t, steps, dt_stats.last), observer);
             }
             outcome = Outcome::Interrupted { t, step: steps };
             break;

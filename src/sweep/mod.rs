@@ -26,16 +26,17 @@ pub use row::{classify, Row};
 use std::collections::BTreeSet;
 use std::fmt;
 use std::panic::{self, AssertUnwindSafe};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
 
 use crate::config::{C0Spec, Scene, SceneError};
 use crate::kernel::KernelInfo;
+use crate::particles::series::{write_picture, ParticleOutput};
 use crate::problem::c0;
 use crate::problem::channel::Channel;
 use crate::problem::cost::Estimate;
@@ -142,6 +143,48 @@ pub fn run_point(
     rules: &ClassRules,
     stop: &AtomicBool,
 ) -> Option<Row> {
+    run_point_with(point, base, rules, stop, None)
+}
+
+/// Where a sweep writes particle snapshots: every `every`-th output time of
+/// each point into `root/`[`Point::particle_dir`] (`sweep --particles-every K`).
+#[derive(Debug, Clone, Copy)]
+pub struct ParticleDump<'a> {
+    pub root: &'a Path,
+    pub every: u64,
+}
+
+impl Point {
+    /// The point's folder of particle snapshots under a sweep's: its id as
+    /// a path (`monaghan/n=10/re=1/alpha=0.1/c0=derived`), any character
+    /// but letters, digits and `=._-` as `_`.
+    pub fn particle_dir(&self) -> PathBuf {
+        self.id()
+            .split('/')
+            .map(|part| {
+                part.chars()
+                    .map(|c| {
+                        if c.is_ascii_alphanumeric() || "=._-".contains(c) {
+                            c
+                        } else {
+                            '_'
+                        }
+                    })
+                    .collect::<String>()
+            })
+            .collect()
+    }
+}
+
+/// [`run_point`], and with `particles` the point's particle snapshots and
+/// picture (a write error is printed and costs the snapshots, not the row).
+pub fn run_point_with(
+    point: &Point,
+    base: &toml::Table,
+    rules: &ClassRules,
+    stop: &AtomicBool,
+    particles: Option<ParticleDump>,
+) -> Option<Row> {
     if stop.load(Ordering::Relaxed) {
         return None;
     }
@@ -185,9 +228,29 @@ pub fn run_point(
         return Some(row);
     }
     let mut watch = StopWatch { stop };
+    let dump_dir = particles.map(|d| (d.root.join(point.particle_dir()), d.every));
     // A panic in the solver is a bug, but it costs one row, not the sweep.
-    let result = panic::catch_unwind(AssertUnwindSafe(|| {
-        crate::run::run_scene(&scene, &mut watch)
+    let result = panic::catch_unwind(AssertUnwindSafe(|| match &dump_dir {
+        None => crate::run::run_scene(&scene, &mut watch),
+        Some((dir, every)) => {
+            let written =
+                std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()));
+            let mut observer = ParticleOutput::new(&mut watch, dir, Some(*every));
+            let r = crate::run::run_scene(&scene, &mut observer);
+            if let Ok(r) = &r {
+                let pictured =
+                    written
+                        .and_then(|_| observer.finish())
+                        .and_then(|last| match last {
+                            Some(last) => write_picture(dir, &last, r),
+                            None => Ok(()),
+                        });
+                if let Err(e) = pictured {
+                    eprintln!("warning: particle snapshots of {}: {e:#}", point.id());
+                }
+            }
+            r
+        }
     }));
     match result {
         // Stopped before the end: no row, so a resumed sweep reruns it.
@@ -344,6 +407,19 @@ pub fn run_points(
     stop: &AtomicBool,
     on_row: &(dyn Fn(&Row) + Sync),
 ) -> Result<(Vec<Row>, bool)> {
+    run_points_with(points, base, rules, par, stop, on_row, None)
+}
+
+/// [`run_points`], with each point's particle snapshots when `particles`.
+pub fn run_points_with(
+    points: &[Point],
+    base: &toml::Table,
+    rules: &ClassRules,
+    par: Parallel,
+    stop: &AtomicBool,
+    on_row: &(dyn Fn(&Row) + Sync),
+    particles: Option<ParticleDump>,
+) -> Result<(Vec<Row>, bool)> {
     let mut todo: Vec<(f64, &Point)> = points
         .iter()
         .map(|p| (estimated_cost(p, base), p))
@@ -353,7 +429,7 @@ pub fn run_points(
     let results = par.map(
         &todo,
         stop,
-        |p| run_point(p, base, rules, stop),
+        |p| run_point_with(p, base, rules, stop, particles),
         |_, row| on_row(row),
     )?;
     let finished = results.iter().filter(|r| r.is_some()).count();
@@ -392,6 +468,24 @@ pub fn run_sweep(
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
 ) -> Result<SweepRun> {
+    run_sweep_with(dir, spec, force, shard, par, stop, bar, watch, None)
+}
+
+/// [`run_sweep`], and with `particles_every` = K each point's particle
+/// snapshots (every K-th output time) and picture under `dir/particles/`.
+#[allow(clippy::too_many_arguments)]
+pub fn run_sweep_with(
+    dir: &Path,
+    spec: Option<SweepSpec>,
+    force: bool,
+    shard: Option<Shard>,
+    par: Parallel,
+    stop: &AtomicBool,
+    bar: &ProgressBar,
+    watch: &(dyn Fn(&Row) + Sync),
+    particles_every: Option<u64>,
+) -> Result<SweepRun> {
+    let particles_root = dir.join("particles");
     // One sweep per folder at a time: the lock is held until this returns.
     let _lock = store::lock(dir)?;
     let (spec, done) = store::open(dir, spec, force)?;
@@ -419,8 +513,18 @@ pub fn run_sweep(
         bar.inc(1);
         watch(row);
     };
-    let (new_rows, interrupted) =
-        run_points(&todo, &spec.scene, &spec.classes, par, stop, &on_row)?;
+    let (new_rows, interrupted) = run_points_with(
+        &todo,
+        &spec.scene,
+        &spec.classes,
+        par,
+        stop,
+        &on_row,
+        particles_every.map(|every| ParticleDump {
+            root: &particles_root,
+            every,
+        }),
+    )?;
     if let Some(e) = append_error.into_inner().unwrap() {
         return Err(e);
     }
