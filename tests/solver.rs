@@ -384,9 +384,10 @@ fn lattice_density_is_the_kernels_eps_at_t0() {
 /// with h (as for Morris on the triangular lattice).
 const MEASURED_SQUARE: &[(&str, &str, f64)] = &[
     // composite at h = d: measured 1.3213. It does NOT reach the analytic
-    // profile: with R h = d the viscous term sees only the two neighbours
-    // straight above and below, at exactly q = 1 (closed support); the cause
-    // of the size of the error is not analysed. A regression guard only.
+    // profile: with R h = d it sees only the four neighbours at exactly
+    // q = 1 (closed support), its lattice density is 15 % above rho0
+    // (eps(0) = 0.1538, `shearsph kernels`), and the viscous term has only
+    // the two neighbours straight above and below. A regression guard only.
     ("composite", "1", 2.7),
     // measured 2.4589e-1, 2.8537e-1: (22b) is not dW/dq (as on the triangular lattice)
     ("composite", "13/10", 0.50),
