@@ -410,7 +410,11 @@ const MEASURED_SQUARE: &[(&str, &str, f64)] = &[
 #[test]
 fn square_lattice_startup_matches_the_series() {
     for info in KERNELS {
-        for disc in info.discretisations.iter().filter(|d| d.lattice == Lattice::Square) {
+        for disc in info
+            .discretisations
+            .iter()
+            .filter(|d| d.lattice == Lattice::Square)
+        {
             let mut s = scene(info.name, Initial::Rest);
             s.lattice = disc.lattice;
             s.h_over_d = disc.h_over_d;
@@ -428,7 +432,12 @@ fn square_lattice_startup_matches_the_series() {
                 .find(|m| m.0 == info.name && m.1 == disc.h_over_d_exact)
                 .map_or(UNMEASURED, |m| m.2);
             assert_eq!(r.outcome, Outcome::Ok, "{} on {}", info.name, disc.label());
-            assert!(worst <= bound, "{} on {}: Linf {worst}", info.name, disc.label());
+            assert!(
+                worst <= bound,
+                "{} on {}: Linf {worst}",
+                info.name,
+                disc.label()
+            );
         }
     }
 }
