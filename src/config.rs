@@ -13,7 +13,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::format::fmt_value;
-use crate::kernel::KernelInfo;
+use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
 use crate::kernels;
 
 /// The built-in scene (src/default_scene.toml).
@@ -36,8 +36,13 @@ pub struct Scene {
     pub kernel: String,
     /// N: fluid layers n = -(N-1) ..= N-1, half-width B = N dy.
     pub n_layers: u32,
-    /// Smoothing length h in units of d.
-    #[serde(default = "one")]
+    /// The starting lattice: `triangular` (the paper's) or `square`.
+    #[serde(default)]
+    pub lattice: Lattice,
+    /// Smoothing length h in units of d: a number or an exact rational
+    /// string ("13/10"). With `lattice` it must name a generated
+    /// discretisation of the kernel (`kernels/discretisations.toml`).
+    #[serde(default = "one", deserialize_with = "de_h_over_d")]
     pub h_over_d: f64,
     /// Particle spacing d.
     #[serde(default = "one")]
@@ -109,6 +114,90 @@ fn default_max_run_s() -> f64 {
 
 fn one() -> f64 {
     1.0
+}
+
+/// h/d from TOML: a number, or a string holding a number or an exact
+/// rational "P/Q".
+fn de_h_over_d<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Raw {
+        Number(f64),
+        Text(String),
+    }
+    match Raw::deserialize(d)? {
+        Raw::Number(v) => Ok(v),
+        Raw::Text(t) => parse_h_over_d(&t).map_err(serde::de::Error::custom),
+    }
+}
+
+/// h/d as a flag or TOML string gives it: a number (`1.3`) or an exact
+/// rational `P/Q` (`13/10`, whole P and Q). The rational's f64 is P / Q
+/// rounded once (P and Q are exact in f64), so it equals the generated,
+/// correctly rounded h/d of the same rational bit for bit; two rationals
+/// with denominators below 10^5 differ by far more than the lookup's 1e-12,
+/// so matching the f64 matches the exact rational.
+pub fn parse_h_over_d(s: &str) -> Result<f64, String> {
+    let s = s.trim();
+    let bad = || format!("h_over_d {s:?} is neither a number nor a rational P/Q (e.g. 13/10)");
+    match s.split_once('/') {
+        Some((p, q)) => {
+            let p: u64 = p.trim().parse().map_err(|_| bad())?;
+            let q: u64 = q.trim().parse().map_err(|_| bad())?;
+            if q == 0 || p >= 1 << 53 || q >= 1 << 53 {
+                return Err(bad());
+            }
+            Ok(p as f64 / q as f64)
+        }
+        None => s.parse().map_err(|_| bad()),
+    }
+}
+
+/// h/d as a short exact rational for a message ("13/10"), or the number
+/// itself when no fraction with a denominator up to 1000 gives it to 1e-12.
+pub fn rational_text(v: f64) -> String {
+    (1..=1000u32)
+        .find_map(|q| {
+            let p = (v * f64::from(q)).round();
+            ((p / f64::from(q) - v).abs() <= 1e-12 * v.abs()).then_some((p, q))
+        })
+        .map_or_else(
+            || format!("{v}"),
+            |(p, q)| {
+                if q == 1 {
+                    format!("{p}")
+                } else {
+                    format!("\"{p}/{q}\"")
+                }
+            },
+        )
+}
+
+/// The generated discretisation of `info` a scene names (its `lattice` and
+/// `h_over_d`), or an error naming the line to add to
+/// kernels/discretisations.toml and the command to run.
+pub fn discretisation(
+    info: &'static KernelInfo,
+    lattice: Lattice,
+    h_over_d: f64,
+) -> Result<&'static DiscretisationInfo, SceneError> {
+    info.discretisation(lattice, h_over_d).ok_or_else(|| {
+        let known: Vec<String> = info.discretisations.iter().map(|d| d.label()).collect();
+        invalid(
+            "h_over_d",
+            format!(
+                "kernel {} has no generated discretisation with lattice = {:?} and h = {h_over_d} d \
+                 (generated: {}); add to kernels/discretisations.toml\n\n[[discretisation]]\n\
+                 lattice = \"{}\"\nh_over_d = {}\n\nthen run `cargo run -p shearsph-codegen -- generate` \
+                 and rebuild",
+                info.name,
+                lattice.name(),
+                known.join("; "),
+                lattice.name(),
+                rational_text(h_over_d),
+            ),
+        )
+    })
 }
 fn default_alpha() -> f64 {
     DEFAULT_ALPHA
@@ -453,6 +542,14 @@ impl Scene {
     /// The kernel's data from the registry, or an error listing the known ones.
     pub fn kernel_info(&self) -> Result<&'static KernelInfo, SceneError> {
         kernel_info(&self.kernel)
+    }
+
+    /// The scene's discretisation of `info` (see [`discretisation`]).
+    pub fn discretisation(
+        &self,
+        info: &'static KernelInfo,
+    ) -> Result<&'static DiscretisationInfo, SceneError> {
+        discretisation(info, self.lattice, self.h_over_d)
     }
 }
 

@@ -211,10 +211,15 @@ impl KernelInfo {
     }
 }
 
-/// The kind of lattice a discretisation starts from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// The kind of lattice a discretisation starts from (a scene's `lattice`,
+/// in TOML `"triangular"` or `"square"`; the paper's by default).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Lattice {
     /// The paper's: layers dy = (sqrt 3 / 2) d apart, odd layers offset by d/2.
+    #[default]
     Triangular,
     /// dy = d, no offset (PySPH, DualSPHysics, SPHinXsys).
     Square,
@@ -233,6 +238,29 @@ impl Lattice {
             "square" => Some(Lattice::Square),
             _ => None,
         }
+    }
+    /// Layer spacing dy for particle spacing d: (sqrt 3 / 2) d or d.
+    pub fn dy(self, d: f64) -> f64 {
+        match self {
+            Lattice::Triangular => 0.5 * 3f64.sqrt() * d,
+            Lattice::Square => d,
+        }
+    }
+    /// The x offset of layer `n` in units of d: 1/2 on the triangular
+    /// lattice's odd layers, else 0.
+    pub fn offset(self, n: i32) -> f64 {
+        match self {
+            Lattice::Triangular if n.rem_euclid(2) == 1 => 0.5,
+            _ => 0.0,
+        }
+    }
+}
+
+impl std::str::FromStr for Lattice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Lattice::parse(s)
+            .ok_or_else(|| format!("unknown lattice {s:?}: use triangular (the paper's) or square"))
     }
 }
 
@@ -340,6 +368,18 @@ pub struct DiscretisationInfo {
 }
 
 impl DiscretisationInfo {
+    /// "square, h = 13/10 d": how figures and tables name it.
+    pub fn label(&self) -> String {
+        format!("{}, h = {} d", self.lattice.name(), self.h_over_d_exact)
+    }
+    /// The paper's: triangular, h = d.
+    pub fn is_papers(&self) -> bool {
+        self.lattice == Lattice::Triangular && self.h_over_d_exact == "1"
+    }
+    /// The model called `name`'s fact when it has no c0 here.
+    pub fn no_c0_fact(&self, name: &str) -> Option<&'static str> {
+        self.no_c0.iter().find(|m| m.model == name).map(|m| m.fact)
+    }
     pub fn c0_model(&self, name: &str) -> Option<&'static C0Model> {
         self.c0_models.iter().find(|m| m.name == name)
     }

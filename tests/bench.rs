@@ -157,11 +157,12 @@ fn coarser_pysph_scenes_reach_the_same_time_and_mirrored_walls_are_the_default()
     };
     let matched = run(&[]);
     assert_eq!(matched["wall_velocity"].as_str(), Some("mirrored"));
-    assert_eq!(matched["layers"].as_u64(), Some(35));
-    // 10 layers: steps scaled by (10/35)^2, the same t nu / B^2 up to the
+    assert_eq!(matched["layers"].as_u64(), Some(30));
+    assert_eq!(matched["discretisation"].as_str(), Some("square, h = 1 d"));
+    // 10 layers: steps scaled by (10/30)^2, the same t nu / B^2 up to the
     // rounding of the step count.
     let coarse = run(&["--layers", "10"]);
-    assert_eq!(coarse["steps"].as_u64(), Some(33));
+    assert_eq!(coarse["steps"].as_u64(), Some(44));
     assert!(coarse["particles"].as_u64().unwrap() < 400);
     let (a, b) = (
         matched["tau"].as_f64().unwrap(),
@@ -175,4 +176,51 @@ fn coarser_pysph_scenes_reach_the_same_time_and_mirrored_walls_are_the_default()
     let err = |r: &serde_json::Value| r["linf_rel_err"].as_f64().unwrap();
     assert!(err(&coarse) > err(&matched));
     assert!(err(&zero) > err(&matched));
+}
+
+#[test]
+fn sphinxsys_matched_scene_is_matched() {
+    // The keys bench/peers/sphinxsys_poiseuille.sh reads, and the scene its
+    // header fixes: Wendland C2, square lattice, h = 13/10 d, U B / nu = 7.5,
+    // c0 = 10 U, B = N d, to t nu / B^2 = TAU on a strip of --columns.
+    let r = json(&shearsph(&[
+        "bench",
+        "--sphinxsys-match",
+        "--layers",
+        "6",
+        "--tau",
+        "0.02",
+        "--threads",
+        "1",
+        "--columns",
+        "12",
+    ]));
+    assert!(r["code"].as_str().unwrap().starts_with("shearsph"));
+    assert_eq!(r["discretisation"].as_str(), Some("square, h = 13/10 d"));
+    assert_eq!(r["layers"].as_u64(), Some(6));
+    assert!((r["re"].as_f64().unwrap() - 7.5).abs() < 1e-12);
+    assert!((r["c0_over_u"].as_f64().unwrap() - 10.0).abs() < 1e-12);
+    // 11 fluid layers and 2 x 2 wall layers (R h = 2.6 d), 12 columns.
+    assert_eq!(r["n_fluid"].as_u64(), Some(11 * 12));
+    assert_eq!(r["n_wall"].as_u64(), Some(4 * 12));
+    assert_eq!(r["particles"].as_u64(), Some(15 * 12));
+    assert_eq!(r["threads"].as_u64(), Some(1));
+    // The steps reach TAU (to about one step: measured 0.02 within 1e-3).
+    let tau = r["tau"].as_f64().unwrap();
+    assert!((tau / 0.02 - 1.0).abs() < 0.01, "{tau}");
+    assert!(r["steps"].as_u64().unwrap() > 1);
+    for key in ["wall_s", "particle_steps_per_s", "t", "linf_rel_err"] {
+        positive(&r, key);
+    }
+    // Too narrow a strip is refused.
+    let o = shearsph(&[
+        "bench",
+        "--sphinxsys-match",
+        "--columns",
+        "3",
+        "--threads",
+        "1",
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--columns 3"));
 }

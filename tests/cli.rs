@@ -505,3 +505,124 @@ fn c0_lists_every_rule_with_its_time_step() {
     let text = String::from_utf8(text.stdout).unwrap();
     assert!(text.contains("rule10") && text.contains("N = 12"), "{text}");
 }
+
+#[test]
+fn c0_on_a_square_lattice_with_h_13_10_is_that_discretisations() {
+    let args = [
+        "c0",
+        "--kernel",
+        "monaghan",
+        "--n",
+        "10",
+        "--re",
+        "10",
+        "--lattice",
+        "square",
+        "--h-over-d",
+        "13/10",
+    ];
+    let o = shearsph(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("square lattice, h = 13/10 d"), "{text}");
+    let mut json_args = args.to_vec();
+    json_args.push("--json");
+    let o = shearsph(&json_args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(t["lattice"], "square");
+    assert_eq!(t["h_over_d"], "13/10");
+    assert_eq!(t["discretisation"], "square, h = 13/10 d");
+    // The derived c0 is the square h = 13/10 d discretisation's model on this
+    // scene: B = N d, p = 2 U^2 / (Re B) = 0.02, A = p d N^4 / U^2 = 200.
+    let info = KERNELS.iter().find(|k| k.name == "monaghan").unwrap();
+    let disc = info
+        .discretisation(shearsph::kernel::Lattice::Square, 1.3)
+        .expect("square 13/10 is generated");
+    let p = t["p"].as_f64().unwrap();
+    assert!((p - 0.02).abs() < 1e-15, "p {p}");
+    let row = |rule: &str| {
+        t["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["rule"] == rule)
+            .unwrap_or_else(|| panic!("row {rule}"))["c0"]
+            .as_f64()
+            .unwrap()
+    };
+    for m in disc.c0_models {
+        let want = m.c0(1.0, 10.0, p, 1.0, 0.1);
+        let got = row(&format!("derived:{}", m.name));
+        assert!(
+            (got - want).abs() <= 1e-14 * want.abs(),
+            "{}: {got} against {want}",
+            m.name
+        );
+    }
+    // ... and not the paper's discretisation's (h/d is not ignored), and no
+    // Table 2 row (the paper's table is for its own discretisation).
+    let paper = shearsph(&[
+        "c0", "--kernel", "monaghan", "--n", "10", "--re", "10", "--json",
+    ]);
+    let paper: serde_json::Value = serde_json::from_slice(&paper.stdout).unwrap();
+    let paper_c0 = paper["rows"][0]["c0"].as_f64().unwrap();
+    assert!(
+        (row("derived:field-av") - paper_c0).abs() > 0.01,
+        "{paper_c0}"
+    );
+    assert!(t["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["rule"] != "table2"));
+    // A number finds the same discretisation.
+    let mut num = json_args.clone();
+    num[10] = "1.3";
+    let o = shearsph(&num);
+    let n: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(n["rows"], t["rows"]);
+}
+
+#[test]
+fn an_ungenerated_discretisation_names_the_line_to_add() {
+    for cmd in ["c0", "run"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let mut args = vec![cmd, "--lattice", "square", "--h-over-d", "3/2"];
+        if cmd == "run" {
+            args.extend(["--quiet", "--out", out.to_str().unwrap()]);
+        }
+        let o = shearsph(&args);
+        assert_eq!(o.status.code(), Some(1), "{cmd}");
+        let e = stderr(&o);
+        for want in [
+            "--h-over-d",
+            "kernels/discretisations.toml",
+            "[[discretisation]]\nlattice = \"square\"\nh_over_d = \"3/2\"",
+            "cargo run -p shearsph-codegen -- generate",
+        ] {
+            assert!(e.contains(want), "{cmd}: no {want:?} in {e}");
+        }
+        assert!(!out.exists(), "{cmd} wrote before refusing");
+    }
+    // Not a number nor a rational.
+    let o = shearsph(&["c0", "--h-over-d", "13/x"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("neither a number nor a rational"),
+        "{}",
+        stderr(&o)
+    );
+    // The same lookup for a scene file's fields.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("scene.toml");
+    std::fs::write(&file, "lattice = \"square\"\nh_over_d = \"7/4\"\n").unwrap();
+    let o = shearsph(&["c0", "--scene", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("h_over_d = \"7/4\""), "{}", stderr(&o));
+    std::fs::write(&file, "lattice = \"hexagonal\"\n").unwrap();
+    let o = shearsph(&["c0", "--scene", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("lattice"), "{}", stderr(&o));
+}

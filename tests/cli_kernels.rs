@@ -39,6 +39,21 @@ fn kernels_json_lists_every_kernel_with_its_constants() {
         assert_eq!(j["c0"]["default"], k.c0_default);
         let m = k.default_c0_model();
         assert!(close(&j["c0"]["models"][m.name]["S"], m.s.value));
+        // Every discretisation, with its eps and models or no-c0 facts.
+        let ds = j["discretisations"].as_array().unwrap();
+        assert_eq!(ds.len(), k.discretisations.len());
+        for (jd, d) in ds.iter().zip(k.discretisations) {
+            assert_eq!(jd["lattice"], d.lattice.name());
+            assert_eq!(jd["h_over_d_exact"], d.h_over_d_exact);
+            assert!(close(&jd["eps"]["t0"]["value"], d.eps.t0.value));
+            assert!(close(&jd["eps"]["max"]["value"], d.eps.max.value));
+            for m in d.c0_models {
+                assert!(close(&jd["c0"]["models"][m.name]["Q"], m.q.value));
+            }
+            for m in d.no_c0 {
+                assert_eq!(jd["c0"]["no_c0"][m.model], m.fact);
+            }
+        }
     }
 }
 
@@ -49,13 +64,27 @@ fn kernels_table_names_every_kernel_and_flags_missing_roots() {
     let text = String::from_utf8(out.stdout).unwrap();
     for k in KERNELS {
         assert!(text.contains(k.name), "{text}");
-        for m in k.c0_models {
-            let no_root = m.q.value <= 0.0 && m.s.value >= 0.0;
-            let line = text
-                .lines()
-                .find(|l| l.starts_with(k.name) && l.split_whitespace().nth(1) == Some(m.name))
-                .unwrap_or_else(|| panic!("row for {} {}", k.name, m.name));
-            assert_eq!(line.contains("no positive root"), no_root, "{line}");
+        for d in k.discretisations {
+            let row = |model: &str| {
+                text.lines()
+                    .find(|l| {
+                        let w: Vec<&str> = l.split_whitespace().collect();
+                        w.len() > 3
+                            && w[0] == k.name
+                            && w[1] == d.lattice.name()
+                            && w[2] == d.h_over_d_exact
+                            && w[3] == model
+                    })
+                    .unwrap_or_else(|| panic!("row for {} {} {model}", k.name, d.label()))
+            };
+            for m in d.c0_models {
+                let no_root = m.q.value <= 0.0 && m.s.value >= 0.0;
+                let line = row(m.name);
+                assert_eq!(line.contains("no positive root"), no_root, "{line}");
+            }
+            for m in d.no_c0 {
+                assert!(row(m.model).contains(m.fact));
+            }
         }
     }
 }

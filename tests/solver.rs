@@ -7,6 +7,7 @@
 //! comment), on small scenes that finish in seconds.
 
 use shearsph::config::{Initial, Scene, WallVelocity};
+use shearsph::kernel::Lattice;
 use shearsph::kernels::KERNELS;
 use shearsph::solver::{Failure, Observer, Outcome, Quiet, RunResult};
 
@@ -347,17 +348,95 @@ fn lattice_density_is_the_kernels_eps_at_t0() {
     // is the derivation's eps(0 T) in every fluid layer, the wall-side ones
     // too (walls cover the support): checks the mass, the kernel's h scaling,
     // the closed support (R = 1 counts neighbours at exactly q = 1) and the
-    // neighbour list with its periodic images.
+    // neighbour list with its periodic images. For every kernel on every
+    // generated discretisation (lattice kind, h/d): the registry's lists, so
+    // a new kernel or discretisation is checked with no edit here.
+    let mut checked = 0;
     for info in KERNELS {
-        let mut s = scene(info.name, Initial::Rest);
-        s.t_end = Some(1e-6);
-        let first = &run(&s).samples[0];
-        let want = info.eps.t0.value;
-        for got in [first.max_eps, first.mean_eps] {
+        for disc in info.discretisations {
+            let mut s = scene(info.name, Initial::Rest);
+            s.lattice = disc.lattice;
+            s.h_over_d = disc.h_over_d;
+            if !disc.is_papers() {
+                s.c0 = "rule10".parse().unwrap();
+            }
+            s.t_end = Some(1e-6);
+            let first = &run(&s).samples[0];
+            let want = disc.eps.t0.value;
+            for got in [first.max_eps, first.mean_eps] {
+                assert!(
+                    (got - want).abs() < 1e-13,
+                    "{} on {}: eps {got}, derived {want}",
+                    info.name,
+                    disc.label()
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4 * KERNELS.len(), "{checked} discretisations");
+}
+
+/// Tolerances on the square lattice (start from rest, c0 = 10 U, the scene
+/// above otherwise: N = 8, Re = 10, walls at rest), per kernel and h/d:
+/// twice what was measured (release build), in the comment. At fixed N a
+/// larger h reaches deeper into the walls at rest, so the wall slip grows
+/// with h (as for Morris on the triangular lattice).
+const MEASURED_SQUARE: &[(&str, &str, f64)] = &[
+    // composite at h = d: measured 1.3213. It does NOT reach the analytic
+    // profile: with R h = d it sees only the four neighbours at exactly
+    // q = 1 (closed support), its lattice density is 15 % above rho0
+    // (eps(0) = 0.1538, `shearsph kernels`), and the viscous term has only
+    // the two neighbours straight above and below. A regression guard only.
+    ("composite", "1", 2.7),
+    // measured 2.4589e-1, 2.8537e-1: (22b) is not dW/dq (as on the triangular lattice)
+    ("composite", "13/10", 0.50),
+    ("composite", "17/10", 0.58),
+    // measured 3.8607e-3, 6.8328e-3, 5.2451e-2
+    ("monaghan", "1", 7.8e-3),
+    ("monaghan", "13/10", 1.4e-2),
+    ("monaghan", "17/10", 0.105),
+    // measured 1.0724e-2, 3.6429e-2, 8.5146e-2
+    ("morris", "1", 2.2e-2),
+    ("morris", "13/10", 7.3e-2),
+    ("morris", "17/10", 0.17),
+    // measured 1.0403e-1 (h = d: Wendland C2's lattice sums are off, as on
+    // the triangular lattice), 5.6381e-2, 4.5209e-2
+    ("wendland_c2", "1", 0.21),
+    ("wendland_c2", "13/10", 0.113),
+    ("wendland_c2", "17/10", 0.091),
+];
+
+#[test]
+fn square_lattice_startup_matches_the_series() {
+    for info in KERNELS {
+        for disc in info
+            .discretisations
+            .iter()
+            .filter(|d| d.lattice == Lattice::Square)
+        {
+            let mut s = scene(info.name, Initial::Rest);
+            s.lattice = disc.lattice;
+            s.h_over_d = disc.h_over_d;
+            s.c0 = "rule10".parse().unwrap();
+            let r = run(&s);
+            let worst = worst_linf(&r);
+            eprintln!(
+                "{} on {}: start-up, worst Linf / U = {worst:.4e}, outcome {:?}",
+                info.name,
+                disc.label(),
+                r.outcome
+            );
+            let bound = MEASURED_SQUARE
+                .iter()
+                .find(|m| m.0 == info.name && m.1 == disc.h_over_d_exact)
+                .map_or(UNMEASURED, |m| m.2);
+            assert_eq!(r.outcome, Outcome::Ok, "{} on {}", info.name, disc.label());
             assert!(
-                (got - want).abs() < 1e-13,
-                "{}: eps {got}, derived {want}",
-                info.name
+                worst <= bound,
+                "{} on {}: Linf {worst}",
+                info.name,
+                disc.label()
             );
         }
     }

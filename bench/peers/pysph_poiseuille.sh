@@ -25,7 +25,7 @@
 #   PYSPH_ROWS     PySPH's ladder: rows across the channel (default
 #                  "60 48 40 30 24 20 16 12"; 60 is the example's dx)
 #   SHEARSPH_LAYERS  shearsph's ladder: layers in the half-width (default
-#                  "35 30 24 20 16 14 12 10 8 7 6"; 35 is the matched scene)
+#                  "30 24 20 16 14 12 10 8 7 6"; 30 is the matched scene)
 #   LADDER_THREADS thread counts of the ladders (default "1 THREADS")
 #   LADDER=0       skip the ladders (ROUNDS=0 skips the matched rounds)
 #   TARGETS        Linf/Vmax targets for the time to accuracy (default: see
@@ -47,7 +47,7 @@ THREADS=${3:-2}
 WALLS=${WALLS:-mirrored}
 OUT=${OUT:-$ROOT/target/peers/pysph-$STEPS}
 PYSPH_ROWS=${PYSPH_ROWS:-60 48 40 30 24 20 16 12}
-SHEARSPH_LAYERS=${SHEARSPH_LAYERS:-35 30 24 20 16 14 12 10 8 7 6}
+SHEARSPH_LAYERS=${SHEARSPH_LAYERS:-30 24 20 16 14 12 10 8 7 6}
 LADDER_THREADS=${LADDER_THREADS:-$(printf '%s\n' 1 "$THREADS" | sort -nu | tr '\n' ' ')}
 LADDER=${LADDER:-1}
 

@@ -47,11 +47,24 @@ pub struct BenchArgs {
     /// wall PySPH's example uses).
     #[arg(long, default_value = "mirrored", requires = "pysph_match")]
     pub wall_velocity: WallVelocity,
-    /// With --pysph-match: layers in the half-width. 35 is PySPH's
-    /// resolution; fewer run the same flow coarser, to the same t nu / B^2
-    /// (`--steps` scaled by (layers / 35)^2): the time to reach an accuracy.
-    #[arg(long, default_value_t = bench::PYSPH_MATCH_LAYERS, requires = "pysph_match")]
-    pub layers: u32,
+    /// With --pysph-match: layers in the half-width (default 30, PySPH's
+    /// resolution). With --sphinxsys-match: B = N d (default 10, the stock
+    /// case's dx = DH / 20).
+    #[arg(long)]
+    pub layers: Option<u32>,
+    /// Instead: one run of the scene matched to SPHinXsys's stock
+    /// `test_2d_poiseuille_flow` (bench/peers/sphinxsys_poiseuille.sh):
+    /// Wendland C2, square lattice, h = 13/10 d, U B / nu = 7.5, c0 = 10 U,
+    /// to t nu / B^2 = --tau, on the first of --threads; prints one JSON line.
+    #[arg(long, conflicts_with = "pysph_match")]
+    pub sphinxsys_match: bool,
+    /// With --sphinxsys-match: the end time in units of B^2 / nu.
+    #[arg(long, default_value_t = 1.0, requires = "sphinxsys_match")]
+    pub tau: f64,
+    /// With --sphinxsys-match: columns of the periodic strip (default: the
+    /// narrowest the kernel allows).
+    #[arg(long, requires = "sphinxsys_match")]
+    pub columns: Option<u32>,
 }
 
 fn parse_count(s: &str) -> Result<usize, String> {
@@ -78,20 +91,31 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
     if args.threads.contains(&0) {
         bail!("--threads must be at least 1");
     }
-    if args.pysph_match && args.layers == 0 {
-        bail!("--layers must be at least 1 (35 is PySPH's resolution)");
+    if args.layers == Some(0) {
+        bail!("--layers must be at least 1 (30 is PySPH's resolution, 10 SPHinXsys's)");
+    }
+    let threads = args
+        .threads
+        .first()
+        .copied()
+        .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
+    if args.layers.is_some() && !(args.pysph_match || args.sphinxsys_match) {
+        bail!("--layers goes with --pysph-match or --sphinxsys-match");
+    }
+    if args.sphinxsys_match {
+        let layers = args.layers.unwrap_or(10);
+        let run = bench::sphinxsys_match(layers, args.tau, threads, args.columns)?;
+        println!("{}", serde_json::to_string(&run)?);
+        return Ok(ExitCode::SUCCESS);
     }
     if args.pysph_match {
-        let threads = args
-            .threads
-            .first()
-            .copied()
-            .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
+        // Fewer layers run the same flow coarser, to the same t nu / B^2
+        // (`--steps` scaled by (layers / 30)^2): the time to reach an accuracy.
         let run = bench::pysph_match(
             args.steps.unwrap_or(2000),
             threads,
             args.wall_velocity,
-            args.layers,
+            args.layers.unwrap_or(bench::PYSPH_MATCH_LAYERS),
         )?;
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);

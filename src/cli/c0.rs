@@ -28,8 +28,14 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     println!(
-        "kernel {}, N = {}, Re = {:.6}, U = {}, p = {:.6e}, nu = {:.6e}, alpha = {}, A = p d N^4 / U^2 = {:.6}",
-        t.kernel, t.n_layers, t.re, t.u, t.p, t.nu, t.alpha, t.a
+        "kernel {} on the {} lattice, h = {} d (the derived rules are this discretisation's)",
+        t.kernel,
+        t.lattice.name(),
+        t.h_over_d
+    );
+    println!(
+        "N = {}, Re = {:.6}, U = {}, p = {:.6e}, nu = {:.6e}, alpha = {}, A = p d N^4 / U^2 = {:.6}",
+        t.n_layers, t.re, t.u, t.p, t.nu, t.alpha, t.a
     );
     println!(
         "time steps with |v|max = U and |a|max = p; steps to t_end = {:.6}",
@@ -52,10 +58,13 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
                 c.dt_viscous,
                 c.steps
             ),
-            None => println!(
-                "{:<24} {:>12.6}   no positive sound speed for this scene",
-                r.rule, r.c0
-            ),
+            None => match r.no_c0 {
+                Some(fact) => println!("{:<24} {:>12}   {fact}", r.rule, "none"),
+                None => println!(
+                    "{:<24} {:>12.6}   no positive sound speed for this scene",
+                    r.rule, r.c0
+                ),
+            },
         }
     }
     if let Some(e) = &t.scene_c0_error {

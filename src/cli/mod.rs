@@ -43,8 +43,13 @@ pub struct SceneArgs {
     /// Particle spacing d.
     #[arg(long)]
     pub d: Option<f64>,
-    /// Smoothing length in units of d.
+    /// Starting lattice: `triangular` (the paper's) or `square`.
     #[arg(long)]
+    pub lattice: Option<String>,
+    /// Smoothing length in units of d: a number (1.3) or an exact rational
+    /// (13/10); with --lattice it selects a generated discretisation
+    /// (kernels/discretisations.toml).
+    #[arg(long, value_parser = crate::config::parse_h_over_d)]
     pub h_over_d: Option<f64>,
     /// Rest density.
     #[arg(long)]
@@ -112,6 +117,7 @@ impl SceneArgs {
         put("p", self.p.map(Value::Float));
         put("u", self.u.map(Value::Float));
         put("d", self.d.map(Value::Float));
+        put("lattice", self.lattice.clone().map(Value::String));
         put("h_over_d", self.h_over_d.map(Value::Float));
         put("rho0", self.rho0.map(Value::Float));
         put("alpha", self.alpha.map(Value::Float));

@@ -5,7 +5,7 @@
 use crate::analytic::Poiseuille;
 use crate::config::{invalid, positive, Scene, SceneError};
 use crate::format::fmt_value;
-use crate::kernel::KernelInfo;
+use crate::kernel::{DiscretisationInfo, KernelInfo};
 
 use super::lattice::{Lattice, CLOSED_TOL};
 
@@ -13,6 +13,9 @@ use super::lattice::{Lattice, CLOSED_TOL};
 #[derive(Debug, Clone)]
 pub struct Channel {
     pub lattice: Lattice,
+    /// What the generator derived for the scene's lattice and h/d: the c0
+    /// models and eps the scene's c0 and checks use.
+    pub discretisation: &'static DiscretisationInfo,
     /// Walls at y = ±B, U, nu and p.
     pub flow: Poiseuille,
     pub re: f64,
@@ -21,7 +24,8 @@ pub struct Channel {
 impl Channel {
     /// Check the fields the channel reads and build it. The skin is checked
     /// here because its range is the kernel's support.
-    pub fn resolve(scene: &Scene, info: &KernelInfo) -> Result<Channel, SceneError> {
+    pub fn resolve(scene: &Scene, info: &'static KernelInfo) -> Result<Channel, SceneError> {
+        let discretisation = scene.discretisation(info)?;
         let d = scene.d;
         let h = scene.h_over_d * d;
         let support = info.support;
@@ -38,7 +42,7 @@ impl Channel {
         positive("d", d)?;
         positive("h_over_d", scene.h_over_d)?;
         super::cost::check_size(scene.n_layers, d, h, support)?;
-        let lattice = Lattice::new(scene.n_layers, d, h, support);
+        let lattice = Lattice::new(scene.lattice, scene.n_layers, d, h, support);
         // The centre line's support must not reach the wall (closed support).
         let n_min = (support * h * (1.0 + CLOSED_TOL) / lattice.dy).floor() as u32 + 1;
         if scene.n_layers < n_min {
@@ -71,6 +75,7 @@ impl Channel {
         };
         Ok(Channel {
             lattice,
+            discretisation,
             re: flow.re(),
             flow,
         })

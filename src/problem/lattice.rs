@@ -1,8 +1,11 @@
-//! The triangular lattice of section 2: layers dy = (sqrt 3 / 2) d apart,
-//! odd layers offset by d/2, fluid layers n = -(N-1) ..= N-1, wall layers
-//! beyond, in a periodic strip of whole columns just wider than the support.
+//! The particle lattice: the triangular one of section 2 (layers
+//! dy = (sqrt 3 / 2) d apart, odd layers offset by d/2) or the square one
+//! (dy = d, no offset), fluid layers n = -(N-1) ..= N-1, wall layers beyond,
+//! in a periodic strip of whole columns just wider than the support.
 
 use serde::Serialize;
+
+use crate::kernel::Lattice as Kind;
 
 /// Relative tolerance for "a lattice distance equals the support", the same
 /// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
@@ -11,13 +14,16 @@ pub const CLOSED_TOL: f64 = 1e-9;
 /// Where the particles sit and how many there are.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Lattice {
+    /// Triangular or square.
+    pub kind: Kind,
     /// Fluid half-width in layers: fluid layers |n| <= N - 1, B = N dy.
     pub n_layers: u32,
     pub d: f64,
     pub h: f64,
-    /// Layer spacing (sqrt 3 / 2) d.
+    /// Layer spacing: (sqrt 3 / 2) d (triangular) or d (square).
     pub dy: f64,
-    /// Periodic strip: `columns` particles per layer, width = columns d.
+    /// Periodic strip: `columns` particles per layer, width = columns d
+    /// (a whole number of the lattice's x period d, on either lattice).
     pub columns: u32,
     pub width: f64,
     /// Wall layers on each side, at |n| = N .. N + wall_layers - 1.
@@ -25,18 +31,19 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// The lattice for N layers, spacing d, smoothing length h and kernel
-    /// support R (in h).
+    /// The lattice of kind `kind` for N layers, spacing d, smoothing length
+    /// h and kernel support R (in h).
     ///
     /// Width: the fewest whole columns wider than 2 R h, so no particle sees
     /// two images of one neighbour. Walls: every layer within R h of the last
     /// fluid layer n = N - 1 (closed support), and no more.
-    pub fn new(n_layers: u32, d: f64, h: f64, support: f64) -> Self {
+    pub fn new(kind: Kind, n_layers: u32, d: f64, h: f64, support: f64) -> Self {
         let reach = support * h * (1.0 + CLOSED_TOL);
-        let dy = 0.5 * 3f64.sqrt() * d;
+        let dy = kind.dy(d);
         let columns = (2.0 * reach / d).floor() as u32 + 1;
         let wall_layers = (reach / dy).floor() as u32;
         Lattice {
+            kind,
             n_layers,
             d,
             h,
@@ -50,6 +57,12 @@ impl Lattice {
     /// Half-width of the channel, B = N dy: the first wall layer.
     pub fn b(&self) -> f64 {
         f64::from(self.n_layers) * self.dy
+    }
+
+    /// The area per particle, dy d: m = dy d rho0 (the paper's (11) on the
+    /// triangular lattice, d^2 rho0 on the square one).
+    pub fn area(&self) -> f64 {
+        self.dy * self.d
     }
 
     pub fn fluid_layers(&self) -> u32 {
@@ -85,11 +98,7 @@ impl Lattice {
             Vec::with_capacity(cap),
         );
         for n in self.layers() {
-            let offset = if n.rem_euclid(2) == 1 {
-                0.5 * self.d
-            } else {
-                0.0
-            };
+            let offset = self.kind.offset(n) * self.d;
             for c in 0..self.columns {
                 x.push(f64::from(c) * self.d + offset);
                 y.push(f64::from(n) * self.dy);
@@ -108,17 +117,34 @@ mod tests {
     fn strip_and_walls_fit_the_support() {
         // R = 1, 2, 3 with h = d: widths 3, 5, 7; walls floor(R / dy) = 1, 2, 3.
         for (r, cols, walls) in [(1.0, 3, 1), (2.0, 5, 2), (3.0, 7, 3)] {
-            let l = Lattice::new(10, 1.0, 1.0, r);
+            let l = Lattice::new(Kind::Triangular, 10, 1.0, 1.0, r);
             assert_eq!((l.columns, l.wall_layers), (cols, walls), "R = {r}");
         }
         // A support of exactly 2 dy reaches the second wall layer (closed).
-        let l = Lattice::new(10, 1.0, 3f64.sqrt() / 2.0, 2.0);
+        let l = Lattice::new(Kind::Triangular, 10, 1.0, 3f64.sqrt() / 2.0, 2.0);
         assert_eq!(l.wall_layers, 2);
+        // Square, R h = 2.6 d (Wendland C2 at h = 1.3 d): 6 columns, 2 walls;
+        // R h = 2 d exactly reaches the second wall layer.
+        let l = Lattice::new(Kind::Square, 10, 1.0, 1.3, 2.0);
+        assert_eq!((l.columns, l.wall_layers, l.dy), (6, 2, 1.0));
+        let l = Lattice::new(Kind::Square, 10, 1.0, 1.0, 2.0);
+        assert_eq!((l.columns, l.wall_layers), (5, 2));
+    }
+
+    #[test]
+    fn square_lattice_has_no_offset() {
+        let l = Lattice::new(Kind::Square, 4, 1.0, 1.0, 2.0);
+        let (x, y, layer) = l.positions();
+        for i in 0..x.len() {
+            assert_eq!(x[i], f64::from(i as u32 % l.columns));
+            assert_eq!(y[i], f64::from(layer[i]));
+        }
+        assert_eq!(l.area(), 1.0);
     }
 
     #[test]
     fn positions_cover_fluid_then_walls() {
-        let l = Lattice::new(4, 1.0, 1.0, 2.0);
+        let l = Lattice::new(Kind::Triangular, 4, 1.0, 1.0, 2.0);
         let (x, y, layer) = l.positions();
         assert_eq!(x.len(), l.n_particles());
         assert_eq!(l.n_fluid(), 7 * 5);

@@ -19,7 +19,7 @@ use crate::config::{invalid, positive, C0Spec, Scene};
 /// reads the problem only.
 pub use crate::config::{Initial, PressureForm, SceneError, WallVelocity};
 use crate::format::fmt_value;
-use crate::kernel::KernelInfo;
+use crate::kernel::{DiscretisationInfo, KernelInfo};
 use channel::Channel;
 use lattice::Lattice;
 
@@ -31,11 +31,15 @@ pub struct Problem {
     #[serde(skip)]
     pub kernel: &'static KernelInfo,
     pub lattice: Lattice,
+    /// The generator's derivation for the scene's lattice and h/d.
+    #[serde(skip)]
+    pub discretisation: &'static DiscretisationInfo,
     /// Walls at y = ±B, U, nu and p.
     pub flow: Poiseuille,
     pub re: f64,
     pub rho0: f64,
-    /// Particle mass (sqrt 3 / 2) d^2 rho0 (11).
+    /// Particle mass: the area per particle dy d times rho0 ((11):
+    /// (sqrt 3 / 2) d^2 rho0 on the triangular lattice, d^2 rho0 on the square).
     pub mass: f64,
     /// Dynamic viscosity rho0 nu (10).
     pub mu: f64,
@@ -114,9 +118,14 @@ impl Problem {
             &with(&step_in, &[("output_interval", output_interval)]),
         )?;
         cost::check_memory(&channel, info.support, scene.skin, t_end, output_interval)?;
-        let Channel { lattice, flow, re } = channel;
+        let Channel {
+            lattice,
+            discretisation,
+            flow,
+            re,
+        } = channel;
         let d = lattice.d;
-        let mass = 0.5 * 3f64.sqrt() * d * d * scene.rho0;
+        let mass = lattice.area() * scene.rho0;
         derived("the particle mass", mass, &[("d", d), ("rho0", scene.rho0)])?;
         let mu = scene.rho0 * flow.nu;
         derived(
@@ -141,6 +150,7 @@ impl Problem {
             scene: scene.clone(),
             kernel: info,
             lattice,
+            discretisation,
             re,
             rho0: scene.rho0,
             mass,
@@ -163,14 +173,20 @@ impl Problem {
         })
     }
 
-    /// The paper's section 4 set-up for kernel `info` with N = `n_layers`
-    /// and h = d, whose particles the ideal shear moves (`solver::ideal_shear`):
-    /// only the density is used, so c0 and the EOS play no part.
-    pub fn ideal_shear(info: &'static KernelInfo, n_layers: u32) -> Result<Problem, SceneError> {
+    /// The section 4 set-up for kernel `info` on discretisation `disc`
+    /// (the paper's: triangular, h = d) with N = `n_layers`, whose particles
+    /// the ideal shear moves (`solver::ideal_shear`): only the density is
+    /// used, so c0 and the EOS play no part.
+    pub fn ideal_shear(
+        info: &'static KernelInfo,
+        disc: &DiscretisationInfo,
+        n_layers: u32,
+    ) -> Result<Problem, SceneError> {
         let scene = Scene {
             kernel: info.name.to_string(),
             n_layers,
-            h_over_d: 1.0,
+            lattice: disc.lattice,
+            h_over_d: disc.h_over_d,
             d: 1.0,
             u: 1.0,
             re: Some(10.0),
@@ -186,6 +202,7 @@ impl Problem {
     pub fn channel(&self) -> Channel {
         Channel {
             lattice: self.lattice,
+            discretisation: self.discretisation,
             flow: self.flow,
             re: self.re,
         }

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::charts::{self, EpsCurve, EpsPanel, MapCell, MapLine};
 use crate::config::{C0Rule, C0Spec};
-use crate::kernel::{Kernel, KernelInfo, KernelVisitor};
+use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
 use crate::output::{prepare_dir, write_atomic};
 use crate::particles::series::{picture_svg, ParticleOutput};
@@ -297,6 +297,7 @@ pub fn figure4(
     samples: usize,
 ) -> Result<Vec<EpsPanel>> {
     struct Measure<'a> {
+        disc: &'static DiscretisationInfo,
         n_layers: u32,
         layers: &'a [u32],
         t: &'a [f64],
@@ -304,7 +305,7 @@ pub fn figure4(
     impl KernelVisitor for Measure<'_> {
         type Output = Result<Vec<Vec<f64>>, crate::config::SceneError>;
         fn visit<K: Kernel>(self) -> Self::Output {
-            ideal_shear::eps_series::<K>(self.n_layers, self.layers, self.t)
+            ideal_shear::eps_series::<K>(self.disc, self.n_layers, self.layers, self.t)
         }
     }
     let t: Vec<f64> = (0..=samples).map(|k| k as f64 / samples as f64).collect();
@@ -322,6 +323,7 @@ pub fn figure4(
         let measured = kernels::with_kernel(
             info.name,
             Measure {
+                disc: &info.discretisations[0],
                 n_layers,
                 layers: &ids,
                 t: &t,

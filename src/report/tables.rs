@@ -251,6 +251,7 @@ pub fn c0_compare(
             let scene = point.scene(&config.scene)?;
             let table = c0_table(&scene)?;
             let particles = crate::problem::lattice::Lattice::new(
+                scene.lattice,
                 scene.n_layers,
                 scene.d,
                 scene.h_over_d * scene.d,

@@ -7,19 +7,22 @@
 
 use super::neighbours::NeighbourList;
 use super::step::{self, Params, State};
-use crate::kernel::Kernel;
+use crate::kernel::{DiscretisationInfo, Kernel};
 use crate::problem::lattice::Lattice;
 use crate::problem::{Problem, SceneError};
 
 /// eps = rho / rho0 - 1 of a particle of each layer in `layers` (0 <= n <
 /// N), at each time in `t_over_period` (fractions of T = d N^2 / U), for N =
-/// `n_layers` and h = d. `result[l][k]` is layer `layers[l]` at time k.
+/// `n_layers` on discretisation `disc` (its lattice and h/d; the paper's is
+/// `K::INFO.discretisations[0]`). `result[l][k]` is layer `layers[l]` at
+/// time k.
 pub fn eps_series<K: Kernel>(
+    disc: &DiscretisationInfo,
     n_layers: u32,
     layers: &[u32],
     t_over_period: &[f64],
 ) -> Result<Vec<Vec<f64>>, SceneError> {
-    let problem = Problem::ideal_shear(K::INFO, n_layers)?;
+    let problem = Problem::ideal_shear(K::INFO, disc, n_layers)?;
     let lat: Lattice = problem.lattice;
     let mut s = State::new(&lat, &problem);
     let prm = Params::new(&problem);

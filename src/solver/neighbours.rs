@@ -488,7 +488,7 @@ mod tests {
 
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
-        let l = Lattice::new(5, 1.0, 1.0, 2.0);
+        let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
         let (mut x, mut y, _) = l.positions();
         // Deterministic jitter, then wrap x into the strip.
         for i in 0..x.len() {
@@ -547,7 +547,7 @@ mod stale_tests {
 
     #[test]
     fn shear_between_near_layers_triggers_a_rebuild() {
-        let l = Lattice::new(6, 1.0, 1.0, 2.0);
+        let l = Lattice::new(crate::kernel::Lattice::Triangular, 6, 1.0, 1.0, 2.0);
         let (x, y, layer) = l.positions();
         let mut list = NeighbourList::default();
         list.build(&x, &y, l.width, 2.3, l.columns as usize);
