@@ -122,6 +122,7 @@ fn index_references_every_figure_and_table() {
         "table1",
         "table2",
         "c0",
+        "square",
         "figure4",
         "speed",
         "maps",
@@ -136,6 +137,25 @@ fn index_references_every_figure_and_table() {
     // Self-contained: no scripts, nothing from the network.
     assert!(!html.contains("<script"));
     assert!(!html.contains("src=\"http"));
+    // The square-lattice analysis names each kernel's square discretisation
+    // (h = 13/10 d where generated), and every c0 model's row or fact.
+    for k in KERNELS {
+        let disc = shearsph::report::square_discretisation(k).expect("a square discretisation");
+        assert!(
+            html.contains(&disc.label()),
+            "{}: no {}",
+            k.name,
+            disc.label()
+        );
+        if disc.h_over_d_exact != "13/10" {
+            assert!(k
+                .discretisations
+                .iter()
+                .all(|d| d.lattice != shearsph::kernel::Lattice::Square
+                    || d.h_over_d_exact != "13/10"));
+        }
+    }
+    assert!(html.contains("the paper's discretisation: triangular, h = d"));
     // A verdict per kernel, named.
     for k in KERNELS {
         assert!(

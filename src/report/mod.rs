@@ -10,6 +10,7 @@
 
 mod empirical;
 mod html;
+pub use html::square_discretisation;
 mod tables;
 mod verdict;
 
