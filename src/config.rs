@@ -408,6 +408,20 @@ impl<'de> Deserialize<'de> for C0Spec {
     }
 }
 
+/// A lattice kind in TOML and JSON: `"triangular"` or `"square"`.
+impl Serialize for Lattice {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Lattice {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 /// A scene that cannot run, or cannot be read.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {

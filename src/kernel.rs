@@ -213,10 +213,9 @@ impl KernelInfo {
 
 /// The kind of lattice a discretisation starts from (a scene's `lattice`,
 /// in TOML `"triangular"` or `"square"`; the paper's by default).
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
+/// (Serde's impls are in `crate::config`: this file is also compiled
+/// alone, without serde, by the generator's tests.)
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Lattice {
     /// The paper's: layers dy = (sqrt 3 / 2) d apart, odd layers offset by d/2.
     #[default]

@@ -83,6 +83,8 @@ fn index_references_every_figure_and_table() {
     let mut promised = vec![
         "figure4.svg",
         "figure4.csv",
+        "figure4_square.svg",
+        "figure4_square.csv",
         "speed_accuracy.svg",
         "speed_accuracy_work.svg",
         "speed_accuracy.csv",
@@ -122,6 +124,7 @@ fn index_references_every_figure_and_table() {
         "table1",
         "table2",
         "c0",
+        "square",
         "figure4",
         "speed",
         "maps",
@@ -136,6 +139,25 @@ fn index_references_every_figure_and_table() {
     // Self-contained: no scripts, nothing from the network.
     assert!(!html.contains("<script"));
     assert!(!html.contains("src=\"http"));
+    // The square-lattice analysis names each kernel's square discretisation
+    // (h = 13/10 d where generated), and every c0 model's row or fact.
+    for k in KERNELS {
+        let disc = shearsph::report::square_discretisation(k).expect("a square discretisation");
+        assert!(
+            html.contains(&disc.label()),
+            "{}: no {}",
+            k.name,
+            disc.label()
+        );
+        if disc.h_over_d_exact != "13/10" {
+            assert!(k
+                .discretisations
+                .iter()
+                .all(|d| d.lattice != shearsph::kernel::Lattice::Square
+                    || d.h_over_d_exact != "13/10"));
+        }
+    }
+    assert!(html.contains("the paper's discretisation: triangular, h = d"));
     // A verdict per kernel, named.
     for k in KERNELS {
         assert!(
@@ -177,6 +199,30 @@ fn figure4_csv_is_the_generated_eps_at_and_the_solver_agrees() {
             );
         }
     }
+}
+
+#[test]
+fn figure4_square_is_each_kernels_square_eps_at_and_the_solver_agrees() {
+    // The same as Figure 4 on the square discretisation the report picks per
+    // kernel: the solver's density summation on the square lattice under
+    // ideal shear is that discretisation's eps_at.
+    let rows = csv("figure4_square.csv");
+    let mut kernels_seen = BTreeSet::new();
+    for r in &rows {
+        let info = kernels::kernel_info(&r["kernel"]).unwrap();
+        let disc = shearsph::report::square_discretisation(info).unwrap();
+        let (n, big_n, t) = (
+            r["n"].parse::<u32>().unwrap(),
+            r["n_layers"].parse::<u32>().unwrap(),
+            f(&r["t_over_T"]),
+        );
+        let model = f(&r["eps_model"]);
+        assert_eq!(model, (disc.eps_at)(t, n, Some(big_n)), "{r:?}");
+        assert!((f(&r["eps_solver"]) - model).abs() < 1e-12, "{r:?}");
+        assert_eq!(f(&r["eps_mean"]), disc.eps.mean.value);
+        kernels_seen.insert(r["kernel"].clone());
+    }
+    assert_eq!(kernels_seen.len(), KERNELS.len());
 }
 
 #[test]

@@ -10,6 +10,7 @@
 
 mod empirical;
 mod html;
+pub use html::square_discretisation;
 mod tables;
 mod verdict;
 
@@ -290,9 +291,12 @@ pub fn rule_lines(
 
 /// Figure 4's data: for each kernel, eps over one period for layers 0,
 /// N - R and N - 1 (walls at N), from the generated `eps_at` and from the
-/// solver's density summation under ideal shear.
+/// solver's density summation under ideal shear, on the discretisation
+/// `pick` chooses for it (the paper's: [`papers`]; a kernel it gives none
+/// for is left out).
 pub fn figure4(
     infos: &[&'static KernelInfo],
+    pick: fn(&'static KernelInfo) -> Option<&'static DiscretisationInfo>,
     n_layers: u32,
     samples: usize,
 ) -> Result<Vec<EpsPanel>> {
@@ -310,7 +314,10 @@ pub fn figure4(
     }
     let t: Vec<f64> = (0..=samples).map(|k| k as f64 / samples as f64).collect();
     let mut panels = Vec::new();
-    for info in infos {
+    for &info in infos {
+        let Some(disc) = pick(info) else {
+            continue;
+        };
         let r = info.support.ceil() as u32;
         let mut layers: Vec<(u32, String)> = vec![(0, "n = 0".to_string())];
         if n_layers > r {
@@ -323,14 +330,14 @@ pub fn figure4(
         let measured = kernels::with_kernel(
             info.name,
             Measure {
-                disc: &info.discretisations[0],
+                disc,
                 n_layers,
                 layers: &ids,
                 t: &t,
             },
         )
         .expect("the registry lists this kernel")
-        .with_context(|| format!("Figure 4 for kernel {}", info.name))?;
+        .with_context(|| format!("Figure 4 for kernel {} on {}", info.name, disc.label()))?;
         let curves = layers
             .iter()
             .zip(measured)
@@ -341,7 +348,7 @@ pub fn figure4(
                 t: t.clone(),
                 model: t
                     .iter()
-                    .map(|&tf| (info.eps_at)(tf, *n, Some(n_layers)))
+                    .map(|&tf| (disc.eps_at)(tf, *n, Some(n_layers)))
                     .collect(),
                 measured,
             })
@@ -349,14 +356,20 @@ pub fn figure4(
         panels.push(EpsPanel {
             kernel: info.name.to_string(),
             title: format!(
-                "{}: eps over one period T = d N^2 / U, N = {n_layers}",
-                info.title
+                "{}: eps over one period T = d N^2 / U, N = {n_layers}, {}",
+                info.title,
+                disc.label()
             ),
-            mean: info.eps.mean.value,
+            mean: disc.eps.mean.value,
             curves,
         });
     }
     Ok(panels)
+}
+
+/// The paper's discretisation of a kernel (triangular, h = d).
+pub fn papers(info: &'static KernelInfo) -> Option<&'static DiscretisationInfo> {
+    info.discretisations.first()
 }
 
 /// How to run the report.
@@ -375,6 +388,9 @@ pub struct ReportData {
     pub rows: Vec<Row>,
     pub empirical: Vec<Empirical>,
     pub figure4: Vec<EpsPanel>,
+    /// The same on one square discretisation per kernel
+    /// ([`square_discretisation`]).
+    pub figure4_square: Vec<EpsPanel>,
     pub table1: Vec<(String, Vec<EpsCompare>)>,
     pub table2: Vec<Table2Row>,
     pub c0_compare: Vec<C0Compare>,
@@ -447,7 +463,13 @@ pub fn run(
     ));
 
     // 3. Figure 4, tables, verdicts.
-    let figure4 = figure4(&infos, config.figure4.n, config.figure4.samples)?;
+    let figure4_square = figure4(
+        &infos,
+        square_discretisation,
+        config.figure4.n,
+        config.figure4.samples,
+    )?;
+    let figure4 = figure4(&infos, papers, config.figure4.n, config.figure4.samples)?;
     let table1 = infos
         .iter()
         .map(|i| (i.name.to_string(), tables::table1(i)))
@@ -462,6 +484,7 @@ pub fn run(
         rows,
         empirical,
         figure4,
+        figure4_square,
         table1,
         table2,
         c0_compare,
@@ -506,6 +529,18 @@ fn write(d: &ReportData, out: &Path) -> Result<()> {
         id: "figure4",
         svg_file: "figure4.svg".into(),
         csv_files: vec!["figure4.csv".into()],
+        svg,
+    });
+    let svg = charts::figure4_svg(&d.figure4_square)?;
+    put("figure4_square.svg", &svg)?;
+    put(
+        "figure4_square.csv",
+        &charts::figure4_csv(&d.figure4_square, d.config.figure4.n),
+    )?;
+    figures.push(html::Figure {
+        id: "figure4",
+        svg_file: "figure4_square.svg".into(),
+        csv_files: vec!["figure4_square.csv".into()],
         svg,
     });
 
