@@ -88,6 +88,17 @@ pub struct SceneArgs {
     /// Random initial displacement of the fluid, in units of d.
     #[arg(long)]
     pub jitter: Option<f64>,
+    /// Seed of the jitter: each seed is another perturbed lattice.
+    #[arg(long)]
+    pub jitter_seed: Option<u32>,
+    /// A run is `inaccurate` above this L_inf error of the velocity,
+    /// relative to U (default 0.05).
+    #[arg(long)]
+    pub linf_bound: Option<f64>,
+    /// A run is `over-compressed` when its compaction exceeds the kernel's
+    /// lattice pulsation eps0 by more than this (default 0.01).
+    #[arg(long)]
+    pub eps_margin: Option<f64>,
     /// Neighbour-list skin in units of h.
     #[arg(long)]
     pub skin: Option<f64>,
@@ -135,6 +146,12 @@ impl SceneArgs {
         );
         put("eps_limit", self.eps_limit.map(Value::Float));
         put("jitter", self.jitter.map(Value::Float));
+        put(
+            "jitter_seed",
+            self.jitter_seed.map(|s| Value::Integer(s.into())),
+        );
+        put("linf_bound", self.linf_bound.map(Value::Float));
+        put("eps_margin", self.eps_margin.map(Value::Float));
         put("skin", self.skin.map(Value::Float));
         put("max_run_s", self.max_run_s.map(Value::Float));
         t

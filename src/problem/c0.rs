@@ -6,8 +6,11 @@ use serde::Serialize;
 
 use super::channel::Channel;
 use super::cost::{DtLimit, Estimate};
-use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError};
+use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError, DEFAULT_TECHNICAL_EPS0};
 use crate::kernel::KernelInfo;
+
+/// Morris, Fox and Zhu's (1997) relative density variation, delta = 0.01.
+pub const MORRIS_DELTA: f64 = 0.01;
 
 /// c0 for a base rule (factor 1), with the rule's canonical name.
 pub fn by_rule(
@@ -19,10 +22,48 @@ pub fn by_rule(
     let u = channel.flow.u;
     let n = f64::from(channel.lattice.n_layers);
     let (p, d) = (channel.flow.p, channel.lattice.d);
+    // The distance between the plates, the length the codes' rules take.
+    let l = 2.0 * channel.flow.b;
+    let name = rule.to_string();
     match rule {
-        C0Rule::Rule10 => Ok((10.0 * u, "rule10".into())),
+        C0Rule::Rule10 => Ok((10.0 * u, name)),
+        C0Rule::Trixi => Ok((100.0 * u, name)),
+        C0Rule::Gpusph => Ok((20.0 * (2.0 * p * l).sqrt().max(u), name)),
+        C0Rule::DualSphysics => Ok((20.0 * (p * l).sqrt(), name)),
+        C0Rule::Morris1997 => {
+            let delta = MORRIS_DELTA;
+            let nu = channel.flow.nu;
+            let c2 = (u * u / delta).max(nu * u / (l * delta)).max(p * l / delta);
+            Ok((c2.sqrt(), name))
+        }
+        C0Rule::DerivedEps(eps) => {
+            let eps_t = eps.unwrap_or(DEFAULT_TECHNICAL_EPS0);
+            let model = info.default_c0_model();
+            // a = eps0 K: the kinematic eps0 (the true maximum of the
+            // lattice's compaction) replaced by eps_t scales a by k; b and
+            // c are kept (they carry eps0 only as 1 + eps0, a change of a
+            // few per cent at most). S = b/(2a), P = S^2 (or its own value),
+            // Q = -c/a then scale as 1/k, 1/k^2, 1/k.
+            let eps0 = info.eps.max.value;
+            let k = eps_t / eps0;
+            let root = crate::kernel::c0_root(
+                model.p.value / (k * k),
+                model.q.value / k,
+                model.s.value / k,
+                u,
+                n,
+                p,
+                d,
+                alpha,
+            );
+            let name = match eps {
+                None => "derived-eps".to_string(),
+                Some(e) => format!("derived-eps:{e}"),
+            };
+            Ok((u / (n * n) * root, name))
+        }
         C0Rule::Table2 => match &info.printed_c0 {
-            Some(row) => Ok((row.c0(u, n, p, d, alpha), "table2".into())),
+            Some(row) => Ok((row.c0(u, n, p, d, alpha), name)),
             None => Err(invalid(
                 "c0",
                 format!(
@@ -47,15 +88,24 @@ pub fn by_rule(
     }
 }
 
-/// All base rules for a kernel: every derived model, 10 U, and Table 2 when
-/// the paper prints a row for it.
+/// All base rules for a kernel: every derived model, the derivation with the
+/// technical eps0, the codes' rules (10 U, Morris 1997, GPUSPH,
+/// DualSPHysics, TrixiParticles.jl), and Table 2 when the paper prints a row
+/// for it.
 pub fn all_rules(info: &KernelInfo) -> Vec<C0Rule> {
     let mut rules: Vec<C0Rule> = info
         .c0_models
         .iter()
         .map(|m| C0Rule::Derived(Some(m.name.to_string())))
         .collect();
-    rules.push(C0Rule::Rule10);
+    rules.push(C0Rule::DerivedEps(None));
+    rules.extend([
+        C0Rule::Rule10,
+        C0Rule::Morris1997,
+        C0Rule::Gpusph,
+        C0Rule::DualSphysics,
+        C0Rule::Trixi,
+    ]);
     if info.printed_c0.is_some() {
         rules.push(C0Rule::Table2);
     }
