@@ -52,8 +52,18 @@ pub struct SceneArgs {
     /// Artificial viscosity coefficient, in [0, 1].
     #[arg(long)]
     pub alpha: Option<f64>,
-    /// Sound speed: a number, or [F*]RULE with RULE derived, derived:MODEL,
-    /// rule10 (10 U) or table2 (the paper's printed row).
+    /// Sound speed: a number, or [F*]RULE. With U the centre-line speed, B the
+    /// half-width, F = p the body force, nu = p B^2/(2U), L = 2B the plates'
+    /// distance, RULE is one of: derived, derived:MODEL (Reshetnikova 2024,
+    /// the kernel's derived models); derived-eps[:E] (the same balance with a
+    /// technical eps0 E, default 0.01: a = eps0 K scaled by E/eps0, b and c
+    /// kept); table2 (the paper's printed row); rule10 = 10 U (Monaghan 1994,
+    /// PySPH, SPHinXsys); morris1997: c^2 = max(U^2/delta, nu U/(L delta),
+    /// F L/delta), delta = 0.01 (Morris, Fox, Zhu 1997, 2.2); gpusph = 20
+    /// max(sqrt(2 F L), U) (GPUSPH Poiseuille.cu); dualsphysics = 20
+    /// sqrt(2 F B) (coefsound 20 x speedsystem sqrt(|g| hswl), the body force
+    /// as g and the fluid depth 2B as hswl); trixi = 100 U (TrixiParticles.jl
+    /// poiseuille_flow_2d.jl).
     #[arg(long, allow_hyphen_values = true)]
     pub c0: Option<String>,
     /// Start from `rest` or from the `steady` profile.
