@@ -144,7 +144,7 @@ impl Summary {
             outcome: r.outcome.status(),
             class: r.class(&rules),
             linf_bound: rules.linf_bound,
-            eps_bound: rules.eps_bound(pr.kernel),
+            eps_bound: r.eps_bound(&rules),
             failure_reason,
             failure_t,
             failure_step,

@@ -256,6 +256,19 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// The compaction above which this run is over-compressed: the kernel's
+    /// eps0 plus the margin; on a jittered start, the start's own largest
+    /// compaction plus the margin when that is higher (a perturbed lattice
+    /// starts compacted, at any c0: that is no fault of c0). A perfect
+    /// lattice's bound is the kernel's alone.
+    pub fn eps_bound(&self, rules: &ClassRules) -> f64 {
+        let kernel = rules.eps_bound(self.problem.kernel);
+        match self.samples.first() {
+            Some(s0) if self.problem.jitter > 0.0 => kernel.max(s0.max_eps + rules.eps_margin),
+            _ => kernel,
+        }
+    }
+
     /// The run's class under `rules`: `failed` when the run failed (or was
     /// stopped), else by its worst L_inf error and largest compaction, see
     /// [`classify`].
@@ -265,7 +278,7 @@ impl RunResult {
                 self.linf_rel_err_max(),
                 self.max_eps_run,
                 rules.linf_bound,
-                rules.eps_bound(self.problem.kernel),
+                self.eps_bound(rules),
             ),
             Outcome::Failed { .. } | Outcome::Interrupted { .. } => Class::Failed,
         }

@@ -134,7 +134,7 @@ impl Row {
     pub fn from_run(point: &Point, r: &RunResult, rules: &ClassRules) -> Row {
         let (pr, last) = (&r.problem, r.last());
         let linf_max = r.linf_rel_err_max();
-        let eps_bound = rules.eps_bound(r.problem.kernel);
+        let eps_bound = r.eps_bound(rules);
         let class = r.class(rules);
         let failure_kind = match &r.outcome {
             solver::Outcome::Failed { failure, .. } => Some(failure.kind()),
