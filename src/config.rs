@@ -28,6 +28,49 @@ pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
 /// derived c0 = 0.12 U, but from 1.4e-3 to 5.6e-2 with c0 = 10 U.
 pub const DEFAULT_ALPHA: f64 = 0.1;
 
+/// What makes a run `inaccurate` or `over-compressed`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassRules {
+    /// A run is `inaccurate` when the worst L_inf error of its layer-mean
+    /// velocity over the output times exceeds this (relative to U). 5 %: the
+    /// best runs at N = 10 stay within 0.2-2 % (Monaghan, Morris at Re = 1,
+    /// discretisation and wall slip), so 5 % is clearly beyond discretisation
+    /// error, and small enough that a profile off by more is visibly wrong.
+    #[serde(default = "default_linf_bound")]
+    pub linf_bound: f64,
+    /// A run is `over-compressed` when its largest compaction exceeds the
+    /// kernel's own lattice pulsation eps0 (the true maximum of eps(t) under
+    /// ideal shear, `KernelInfo.eps.max`: eps(0.5 T) for the paper's kernels)
+    /// by more than this. 1 %: the usual weakly compressible tolerance (Mach
+    /// 0.1); eps0 itself is no fault of c0, it is there at any c0.
+    #[serde(default = "default_eps_margin")]
+    pub eps_margin: f64,
+}
+
+fn default_linf_bound() -> f64 {
+    0.05
+}
+fn default_eps_margin() -> f64 {
+    0.01
+}
+
+impl Default for ClassRules {
+    fn default() -> Self {
+        ClassRules {
+            linf_bound: default_linf_bound(),
+            eps_margin: default_eps_margin(),
+        }
+    }
+}
+
+impl ClassRules {
+    /// The compaction above which a run of kernel `info` is over-compressed.
+    pub fn eps_bound(&self, info: &KernelInfo) -> f64 {
+        info.eps.max.value + self.eps_margin
+    }
+}
+
 /// One scene, as written in TOML. Lengths in any unit, consistently.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -98,6 +141,17 @@ pub struct Scene {
     /// lattice, which only pressure can restore.
     #[serde(default)]
     pub jitter: f64,
+    /// Seed of the jitter's generator: one perturbed lattice per seed.
+    #[serde(default)]
+    pub jitter_seed: u32,
+    /// A run is `inaccurate` above this L_inf error (relative to U), see
+    /// [`ClassRules::linf_bound`].
+    #[serde(default = "default_linf_bound")]
+    pub linf_bound: f64,
+    /// A run is `over-compressed` when its compaction exceeds the kernel's
+    /// eps0 by more than this, see [`ClassRules::eps_margin`].
+    #[serde(default = "default_eps_margin")]
+    pub eps_margin: f64,
     /// Neighbour-list skin in units of h (performance only).
     #[serde(default = "default_skin")]
     pub skin: f64,
@@ -281,24 +335,55 @@ impl FromStr for WallVelocity {
     }
 }
 
-/// A base rule for c0.
+/// A base rule for c0. U is the steady centre-line speed, B the half-width,
+/// F = p the body force per unit mass, nu = p B^2 / (2 U), L = 2 B the
+/// distance between the plates.
 #[derive(Debug, Clone, PartialEq)]
 pub enum C0Rule {
     /// A model derived for the kernel (`derived` is its default model,
-    /// `derived:NAME` a named one).
+    /// `derived:NAME` a named one): Reshetnikova (2024).
     Derived(Option<String>),
-    /// c0 = 10 U, the usual rule (4).
+    /// The paper's construction with a technical eps0 (`derived-eps`, 0.01 by
+    /// default; `derived-eps:0.02`) in place of the kernel's kinematic one,
+    /// with the kernel's default model (the paper's closing suggestion).
+    DerivedEps(Option<f64>),
+    /// c0 = 10 U (Monaghan 1994, JCP 110:399; PySPH examples/poiseuille.py,
+    /// SPHinXsys test_2d_poiseuille_flow).
     Rule10,
+    /// c^2 = max(U^2/delta, nu U/(L delta), F L/delta), delta = 0.01, L = 2 B
+    /// (Morris, Fox and Zhu 1997, JCP 136:214, section 2.2; their Poiseuille
+    /// case has the plates at y = 0 and y = L).
+    Morris1997,
+    /// c0 = 20 max(sqrt(2 F L), U), L = 2 B (GPUSPH
+    /// src/problems/Poiseuille.cu: hydrostatic_vel = sqrt(2 driving_force
+    /// lz), c0 = 20 fmax(hydrostatic_vel, max_vel), lz the channel height).
+    Gpusph,
+    /// c0 = coefsound x speedsystem with coefsound = 20 and speedsystem =
+    /// sqrt(|g| hswl), the body force as gravity and the fluid depth hswl =
+    /// 2 B: c0 = 20 sqrt(2 F B) (DualSPHysics JCaseCtes / GenCase defaults).
+    DualSphysics,
+    /// c0 = 100 U (TrixiParticles.jl examples/fluid/poiseuille_flow_2d.jl).
+    Trixi,
     /// The paper's printed row of Table 2 for the kernel.
     Table2,
 }
+
+/// The technical eps0 of `derived-eps` when none is given: 1 %, the usual
+/// weakly compressible tolerance the paper's conclusion names.
+pub const DEFAULT_TECHNICAL_EPS0: f64 = 0.01;
 
 impl fmt::Display for C0Rule {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             C0Rule::Derived(None) => write!(f, "derived"),
             C0Rule::Derived(Some(m)) => write!(f, "derived:{m}"),
+            C0Rule::DerivedEps(None) => write!(f, "derived-eps"),
+            C0Rule::DerivedEps(Some(e)) => write!(f, "derived-eps:{e}"),
             C0Rule::Rule10 => write!(f, "rule10"),
+            C0Rule::Morris1997 => write!(f, "morris1997"),
+            C0Rule::Gpusph => write!(f, "gpusph"),
+            C0Rule::DualSphysics => write!(f, "dualsphysics"),
+            C0Rule::Trixi => write!(f, "trixi"),
             C0Rule::Table2 => write!(f, "table2"),
         }
     }
@@ -321,8 +406,8 @@ impl Default for C0Spec {
     }
 }
 
-const C0_SYNTAX: &str =
-    "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, rule10, table2";
+const C0_SYNTAX: &str = "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, \
+     derived-eps, derived-eps:EPS0, rule10, morris1997, gpusph, dualsphysics, trixi, table2";
 
 impl FromStr for C0Spec {
     type Err = String;
@@ -345,12 +430,31 @@ impl FromStr for C0Spec {
         };
         let rule = match rule {
             "derived" => C0Rule::Derived(None),
+            "derived-eps" => C0Rule::DerivedEps(None),
             "rule10" => C0Rule::Rule10,
+            "morris1997" => C0Rule::Morris1997,
+            "gpusph" => C0Rule::Gpusph,
+            "dualsphysics" => C0Rule::DualSphysics,
+            "trixi" => C0Rule::Trixi,
             "table2" => C0Rule::Table2,
-            r => match r.strip_prefix("derived:") {
-                Some(m) if !m.is_empty() => C0Rule::Derived(Some(m.to_string())),
-                _ => return Err(format!("unknown c0 rule {r:?}: expected {C0_SYNTAX}")),
-            },
+            r => {
+                if let Some(e) = r.strip_prefix("derived-eps:") {
+                    match e.parse::<f64>() {
+                        Ok(eps) if eps > 0.0 && eps.is_finite() => C0Rule::DerivedEps(Some(eps)),
+                        _ => {
+                            return Err(format!(
+                                "bad technical eps0 {e:?} in c0 = {s:?}: give a positive number, \
+                                 e.g. derived-eps:0.01"
+                            ))
+                        }
+                    }
+                } else {
+                    match r.strip_prefix("derived:") {
+                        Some(m) if !m.is_empty() => C0Rule::Derived(Some(m.to_string())),
+                        _ => return Err(format!("unknown c0 rule {r:?}: expected {C0_SYNTAX}")),
+                    }
+                }
+            }
         };
         Ok(C0Spec::Rule { factor, rule })
     }
@@ -468,6 +572,9 @@ fn flag_of(field: &'static str) -> &'static str {
         "wall_velocity" => "wall-velocity",
         "eps_limit" => "eps-limit",
         "max_run_s" => "max-run-s",
+        "jitter_seed" => "jitter-seed",
+        "linf_bound" => "linf-bound",
+        "eps_margin" => "eps-margin",
         other => other,
     }
 }
@@ -565,6 +672,14 @@ impl Scene {
     ) -> Result<&'static DiscretisationInfo, SceneError> {
         discretisation(info, self.lattice, self.h_over_d)
     }
+
+    /// The bounds that classify a run of this scene.
+    pub fn classes(&self) -> ClassRules {
+        ClassRules {
+            linf_bound: self.linf_bound,
+            eps_margin: self.eps_margin,
+        }
+    }
 }
 
 /// A kernel's data by name, or an error listing the known kernels and
@@ -629,6 +744,12 @@ mod tests {
             "derived:full",
             "rule10",
             "table2",
+            "derived-eps",
+            "derived-eps:0.02",
+            "morris1997",
+            "gpusph",
+            "dualsphysics",
+            "trixi",
             "0.5*derived",
             "0.01*rule10",
         ] {
@@ -638,6 +759,8 @@ mod tests {
         assert!("2*nonsense".parse::<C0Spec>().is_err());
         assert!("x*rule10".parse::<C0Spec>().is_err());
         assert!("derived:".parse::<C0Spec>().is_err());
+        assert!("derived-eps:0".parse::<C0Spec>().is_err());
+        assert!("derived-eps:x".parse::<C0Spec>().is_err());
     }
 
     #[test]

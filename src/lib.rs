@@ -17,6 +17,7 @@ pub mod kernels {
     include!("../generated/registry.rs");
 }
 pub mod analytic;
+pub mod answer;
 pub mod bench;
 pub mod charts;
 pub mod cli;

@@ -13,7 +13,7 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use crate::charts::run::{profile_svg, timeseries_svg};
-use crate::solver::{DtLimitSteps, Outcome, Particle, RunResult, Sample};
+use crate::solver::{Class, DtLimitSteps, Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
 #[derive(Debug, Clone, Serialize)]
@@ -70,6 +70,14 @@ pub struct Summary {
     /// `ok`, `failed` or `interrupted` (stopped early, e.g. by Ctrl-C; `t`
     /// and `steps` say where).
     pub outcome: &'static str,
+    /// The class the sweep gives the same run: `ok`, `inaccurate`,
+    /// `over-compressed` or `failed`, by the scene's bounds below.
+    pub class: Class,
+    /// Inaccurate above this L_inf error (relative to U) over the outputs.
+    pub linf_bound: f64,
+    /// Over-compressed above this compaction (the kernel's eps0 plus the
+    /// scene's eps_margin).
+    pub eps_bound: f64,
     pub failure_reason: Option<String>,
     pub failure_t: Option<f64>,
     pub failure_step: Option<u64>,
@@ -96,6 +104,7 @@ impl Summary {
             ),
         };
         let particles = r.particles();
+        let rules = pr.scene.classes();
         Summary {
             kernel: r.kernel.to_string(),
             n_layers: pr.lattice.n_layers,
@@ -133,6 +142,9 @@ impl Summary {
             neighbour_rebuilds: r.neighbour_rebuilds,
             mean_neighbours: r.mean_neighbours,
             outcome: r.outcome.status(),
+            class: r.class(&rules),
+            linf_bound: rules.linf_bound,
+            eps_bound: r.eps_bound(&rules),
             failure_reason,
             failure_t,
             failure_step,

@@ -7,8 +7,14 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 
+use std::io::IsTerminal;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
 use super::SceneArgs;
+use crate::answer::{answer, Search};
 use crate::problem::c0::table;
+use crate::solver::Class;
 
 /// c0 by every rule for a scene, and the time step each implies.
 #[derive(Debug, Args)]
@@ -19,9 +25,32 @@ pub struct C0Args {
     /// Print the table as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Find the scene's c0 with the solver: bisection on log c0 for the
+    /// smallest c0 ok on the perfect lattice and on every perturbed seed,
+    /// then every rule run the same way.
+    #[arg(long)]
+    pub empirical: bool,
+    /// Perturbed starts: jitter amplitude in d (with --empirical).
+    #[arg(long, default_value_t = 0.05)]
+    pub amplitude: f64,
+    /// Perturbed starts: number of seeds (with --empirical).
+    #[arg(long, default_value_t = 3)]
+    pub seeds: u32,
+    /// Recommended c0 = smallest ok c0 times this (with --empirical).
+    #[arg(long, default_value_t = 1.5)]
+    pub margin: f64,
+    /// Bisection tolerance on c0, relative (with --empirical).
+    #[arg(long, default_value_t = 0.1)]
+    pub rel_tol: f64,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 pub fn main(args: C0Args) -> Result<ExitCode> {
+    if args.empirical {
+        return empirical(&args);
+    }
     let t = table(&args.scene.load()?)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&t)?);
@@ -69,6 +98,74 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     }
     if let Some(e) = &t.scene_c0_error {
         println!("the scene's own c0 ({}) does not resolve: {e}", t.scene_c0);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn empirical(args: &C0Args) -> Result<ExitCode> {
+    let scene = args.scene.load()?;
+    // Everything but c0 must be valid before the first run.
+    table(&scene)?;
+    let search = Search {
+        amplitude: args.amplitude,
+        seeds: args.seeds,
+        margin: args.margin,
+        rel_tol: args.rel_tol,
+        ..Search::default()
+    };
+    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(1);
+        bar.set_style(
+            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {pos}/{len} runs")
+                .expect("valid template"),
+        );
+        bar
+    };
+    let a = answer(&scene, &search, &bar)?;
+    bar.finish_and_clear();
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&a)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "kernel {}, N = {}, Re = {:.6}, alpha = {}, U = {}; perfect lattice and {} seeds jittered by {} d",
+        a.kernel, a.n_layers, a.re, a.alpha, a.u, search.seeds, search.amplitude
+    );
+    match (a.c0_min_ok, a.recommended) {
+        (Some(min), Some(rec)) => println!(
+            "recommended c0 = {rec:.6} ({:.4} U): the smallest c0 ok on every start, {min:.6} ({:.4} U), times {}{}",
+            rec / a.u,
+            min / a.u,
+            search.margin,
+            a.c0_max_not_ok
+                .map(|c| format!("; not ok at {:.4} U", c / a.u))
+                .unwrap_or_else(|| format!("; ok down to the lowest probe, {} U", search.lo_over_u))
+        ),
+        _ => println!(
+            "no c0 up to {} U is ok on every start: no recommendation",
+            search.hi_over_u
+        ),
+    }
+    println!(
+        "{:<20} {:>12} {:>10} {:>16} {:>16} {:>10} {:>9} {:>8} {:>9}",
+        "rule", "c0", "c0/U", "perfect", "perturbed", "linf", "steps", "wall_s", "cost_rel"
+    );
+    let cls = |c: Option<Class>| c.map_or("not run".to_string(), |c| c.to_string());
+    for r in &a.rules {
+        println!(
+            "{:<20} {:>12.6} {:>10.4} {:>16} {:>16} {:>10.3e} {:>9} {:>8.2} {:>9.2}",
+            r.name,
+            r.c0,
+            r.c0_over_u,
+            cls(r.outcome_perfect),
+            cls(r.outcome_perturbed),
+            r.linf,
+            r.steps,
+            r.wall_s,
+            r.cost_rel
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -57,8 +57,18 @@ pub struct SceneArgs {
     /// Artificial viscosity coefficient, in [0, 1].
     #[arg(long)]
     pub alpha: Option<f64>,
-    /// Sound speed: a number, or [F*]RULE with RULE derived, derived:MODEL,
-    /// rule10 (10 U) or table2 (the paper's printed row).
+    /// Sound speed: a number, or [F*]RULE. With U the centre-line speed, B the
+    /// half-width, F = p the body force, nu = p B^2/(2U), L = 2B the plates'
+    /// distance, RULE is one of: derived, derived:MODEL (Reshetnikova 2024,
+    /// the kernel's derived models); derived-eps[:E] (the same balance with a
+    /// technical eps0 E, default 0.01: a = eps0 K scaled by E/eps0, b and c
+    /// kept); table2 (the paper's printed row); rule10 = 10 U (Monaghan 1994,
+    /// PySPH, SPHinXsys); morris1997: c^2 = max(U^2/delta, nu U/(L delta),
+    /// F L/delta), delta = 0.01 (Morris, Fox, Zhu 1997, 2.2); gpusph = 20
+    /// max(sqrt(2 F L), U) (GPUSPH Poiseuille.cu); dualsphysics = 20
+    /// sqrt(2 F B) (coefsound 20 x speedsystem sqrt(|g| hswl), the body force
+    /// as g and the fluid depth 2B as hswl); trixi = 100 U (TrixiParticles.jl
+    /// poiseuille_flow_2d.jl).
     #[arg(long, allow_hyphen_values = true)]
     pub c0: Option<String>,
     /// Start from `rest` or from the `steady` profile.
@@ -93,6 +103,17 @@ pub struct SceneArgs {
     /// Random initial displacement of the fluid, in units of d.
     #[arg(long)]
     pub jitter: Option<f64>,
+    /// Seed of the jitter: each seed is another perturbed lattice.
+    #[arg(long)]
+    pub jitter_seed: Option<u32>,
+    /// A run is `inaccurate` above this L_inf error of the velocity,
+    /// relative to U (default 0.05).
+    #[arg(long)]
+    pub linf_bound: Option<f64>,
+    /// A run is `over-compressed` when its compaction exceeds the kernel's
+    /// lattice pulsation eps0 by more than this (default 0.01).
+    #[arg(long)]
+    pub eps_margin: Option<f64>,
     /// Neighbour-list skin in units of h.
     #[arg(long)]
     pub skin: Option<f64>,
@@ -141,6 +162,12 @@ impl SceneArgs {
         );
         put("eps_limit", self.eps_limit.map(Value::Float));
         put("jitter", self.jitter.map(Value::Float));
+        put(
+            "jitter_seed",
+            self.jitter_seed.map(|s| Value::Integer(s.into())),
+        );
+        put("linf_bound", self.linf_bound.map(Value::Float));
+        put("eps_margin", self.eps_margin.map(Value::Float));
         put("skin", self.skin.map(Value::Float));
         put("max_run_s", self.max_run_s.map(Value::Float));
         t

@@ -18,14 +18,22 @@ use crate::output::{self, Summary};
 use crate::particles::series::{self, ParticleOutput};
 use crate::problem::Problem;
 use crate::run::run_problem;
-use crate::solver::{Observer, Outcome, Sample};
+use crate::solver::{Class, Observer, Outcome, Sample};
 
-/// Exit status of a run that completed but whose outcome is `failed`.
+/// Exit status of a run that completed but whose class is `failed`.
 pub const EXIT_FAILED_RUN: u8 = 3;
+/// Exit status of a run that reached t_end but is `inaccurate`.
+pub const EXIT_INACCURATE: u8 = 4;
+/// Exit status of a run that reached t_end but is `over-compressed`.
+pub const EXIT_OVER_COMPRESSED: u8 = 5;
 
-/// Run one scene. Exit status 0 when the run is `ok`, 3 when it ended
-/// `failed`, 130 when Ctrl-C stopped it (`interrupted`: the outputs hold the
-/// run up to there); outputs are written in all three cases. 1 on an error.
+/// Run one scene and classify it as the sweep does (the scene's
+/// `linf_bound` and `eps_margin`, or --linf-bound and --eps-margin).
+///
+/// Exit status: 0 when the run is `ok`; 3 `failed`; 4 `inaccurate` (L_inf
+/// error above linf_bound); 5 `over-compressed` (compaction above the
+/// kernel's eps0 + eps_margin); 130 when Ctrl-C stopped it (`interrupted`);
+/// the outputs are written in all these cases. 1 on an error (bad input).
 #[derive(Debug, Args)]
 #[command(allow_negative_numbers = true, args_override_self = true)]
 pub struct RunArgs {
@@ -106,6 +114,7 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
     if let Some(last) = last? {
         series::write_picture(&args.out, &last, &result)?;
     }
+    let class = result.class(&result.problem.scene.classes());
     let summary = Summary::new(&result);
     if args.json {
         println!("{}", summary.to_json());
@@ -113,11 +122,10 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
             eprintln!("outcome: {}", result.outcome);
         }
     } else {
-        print_summary(&summary, &result.outcome, &args.out);
+        print_summary(&summary, &result.outcome, class, &args.out);
     }
     Ok(match result.outcome {
-        Outcome::Ok => ExitCode::SUCCESS,
-        Outcome::Failed { .. } => ExitCode::from(EXIT_FAILED_RUN),
+        Outcome::Ok | Outcome::Failed { .. } => exit_code(class),
         Outcome::Interrupted { .. } => {
             eprintln!(
                 "{}: the outputs up to there are in {}",
@@ -154,7 +162,17 @@ impl Observer for Progress {
     }
 }
 
-fn print_summary(s: &Summary, outcome: &Outcome, out: &std::path::Path) {
+/// The exit status of a finished run's class.
+pub fn exit_code(class: Class) -> ExitCode {
+    match class {
+        Class::Ok => ExitCode::SUCCESS,
+        Class::Inaccurate => ExitCode::from(EXIT_INACCURATE),
+        Class::OverCompressed => ExitCode::from(EXIT_OVER_COMPRESSED),
+        Class::Failed => ExitCode::from(EXIT_FAILED_RUN),
+    }
+}
+
+fn print_summary(s: &Summary, outcome: &Outcome, class: Class, out: &std::path::Path) {
     println!(
         "{} N = {} ({} particles), Re = {:.4}, U = {}, alpha = {}",
         s.kernel, s.n_layers, s.particles, s.re, s.u, s.alpha
@@ -184,5 +202,9 @@ fn print_summary(s: &Summary, outcome: &Outcome, out: &std::path::Path) {
         s.rms_v / s.u
     );
     println!("outcome: {outcome}");
+    println!(
+        "class: {class} (inaccurate above L_inf {:.4} of U, over-compressed above max eps {:.4})",
+        s.linf_bound, s.eps_bound
+    );
     println!("outputs in {}", out.display());
 }

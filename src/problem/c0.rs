@@ -6,9 +6,12 @@ use serde::Serialize;
 
 use super::channel::Channel;
 use super::cost::{DtLimit, Estimate};
-use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError};
+use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError, DEFAULT_TECHNICAL_EPS0};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, KernelInfo};
+
+/// Morris, Fox and Zhu's (1997) relative density variation, delta = 0.01.
+pub const MORRIS_DELTA: f64 = 0.01;
 
 /// c0 for a base rule (factor 1), with the rule's canonical name. A
 /// derived model is the channel's discretisation's (its lattice and h/d):
@@ -27,8 +30,51 @@ pub fn by_rule(
     let n = f64::from(channel.lattice.n_layers);
     let (p, d) = (channel.flow.p, channel.lattice.d);
     let disc = channel.discretisation;
+    // The distance between the plates, the length the codes' rules take.
+    let l = 2.0 * channel.flow.b;
+    let name = rule.to_string();
     match rule {
-        C0Rule::Rule10 => Ok((10.0 * u, "rule10".into())),
+        C0Rule::Rule10 => Ok((10.0 * u, name)),
+        C0Rule::Trixi => Ok((100.0 * u, name)),
+        C0Rule::Gpusph => Ok((20.0 * (2.0 * p * l).sqrt().max(u), name)),
+        C0Rule::DualSphysics => Ok((20.0 * (p * l).sqrt(), name)),
+        C0Rule::Morris1997 => {
+            let delta = MORRIS_DELTA;
+            let nu = channel.flow.nu;
+            let c2 = (u * u / delta).max(nu * u / (l * delta)).max(p * l / delta);
+            Ok((c2.sqrt(), name))
+        }
+        C0Rule::DerivedEps(eps) => {
+            let eps_t = eps.unwrap_or(DEFAULT_TECHNICAL_EPS0);
+            let name = match eps {
+                None => "derived-eps".to_string(),
+                Some(e) => format!("derived-eps:{e}"),
+            };
+            // the default model on the scene's discretisation; none there
+            // (the generator's "no c0" fact), or a maximum compaction that is
+            // not positive, gives no c0
+            let eps0 = disc.eps.max.value;
+            let Some(model) = disc.c0_model(info.c0_default).filter(|_| eps0 > 0.0) else {
+                return Ok((f64::NAN, name));
+            };
+            // a = eps0 K: the kinematic eps0 (the true maximum of the
+            // lattice's compaction) replaced by eps_t scales a by k; b and
+            // c are kept (they carry eps0 only as 1 + eps0, a change of a
+            // few per cent at most). S = b/(2a), P = S^2 (or its own value),
+            // Q = -c/a then scale as 1/k, 1/k^2, 1/k.
+            let k = eps_t / eps0;
+            let root = crate::kernel::c0_root(
+                model.p.value / (k * k),
+                model.q.value / k,
+                model.s.value / k,
+                u,
+                n,
+                p,
+                d,
+                alpha,
+            );
+            Ok((u / (n * n) * root, name))
+        }
         C0Rule::Table2 => match &info.printed_c0 {
             Some(row) if disc.is_papers() => Ok((row.c0(u, n, p, d, alpha), "table2".into())),
             Some(_) => Err(invalid(
@@ -86,8 +132,10 @@ pub fn no_c0_fact(rule: &C0Rule, info: &KernelInfo, channel: &Channel) -> Option
     }
 }
 
-/// All base rules for a kernel on the paper's discretisation: every derived
-/// model, 10 U, and Table 2 when the paper prints a row for it.
+/// All base rules for a kernel on the scene's discretisation: every derived model, the derivation with the
+/// technical eps0, the codes' rules (10 U, Morris 1997, GPUSPH,
+/// DualSPHysics, TrixiParticles.jl), and Table 2 when the paper prints a row
+/// for it.
 pub fn all_rules(info: &KernelInfo) -> Vec<C0Rule> {
     all_rules_on(info, &info.discretisations[0])
 }
@@ -100,7 +148,14 @@ pub fn all_rules_on(info: &KernelInfo, disc: &DiscretisationInfo) -> Vec<C0Rule>
         .into_iter()
         .map(|m| C0Rule::Derived(Some(m.to_string())))
         .collect();
-    rules.push(C0Rule::Rule10);
+    rules.push(C0Rule::DerivedEps(None));
+    rules.extend([
+        C0Rule::Rule10,
+        C0Rule::Morris1997,
+        C0Rule::Gpusph,
+        C0Rule::DualSphysics,
+        C0Rule::Trixi,
+    ]);
     if info.printed_c0.is_some() && disc.is_papers() {
         rules.push(C0Rule::Table2);
     }
@@ -285,4 +340,105 @@ pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
         scene_c0_error,
         rows,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    //! Each rule against a hand calculation from its source, for the
+    //! built-in scene (Monaghan's kernel, N = 10, U = 1, d = 1, h = d) at
+    //! Re = 1, where every branch of the max()s is not the trivial one.
+    use super::*;
+
+    /// The scene's numbers by hand: the triangular lattice's layer spacing
+    /// dy = (sqrt 3 / 2) d, B = N dy, p = 2 U^2 / (Re B), nu = U B / Re.
+    const N: f64 = 10.0;
+    const U: f64 = 1.0;
+    const RE: f64 = 1.0;
+    fn b() -> f64 {
+        N * (3f64.sqrt() / 2.0) * 1.0
+    }
+    fn p() -> f64 {
+        2.0 * U * U / (RE * b())
+    }
+    fn nu() -> f64 {
+        U * b() / RE
+    }
+
+    fn c0_of(rule: &str) -> f64 {
+        let mut scene = Scene::builtin();
+        scene.n_layers = 10;
+        scene.re = Some(RE);
+        scene.p = None;
+        let info = scene.kernel_info().unwrap();
+        let channel = Channel::resolve(&scene, info).unwrap();
+        assert!((channel.flow.b - b()).abs() < 1e-12, "B = N dy");
+        let spec: C0Spec = rule.parse().unwrap();
+        by_spec(&spec, info, &channel, scene.alpha).unwrap().0
+    }
+
+    fn close(a: f64, b: f64) {
+        assert!((a - b).abs() <= 1e-12 * b.abs(), "{a} != {b}");
+    }
+
+    #[test]
+    fn rule10_is_ten_u() {
+        // Monaghan (1994): c0 = 10 U_max.
+        close(c0_of("rule10"), 10.0 * U);
+    }
+
+    #[test]
+    fn trixi_is_a_hundred_u() {
+        // TrixiParticles.jl poiseuille_flow_2d.jl: sound_speed = 100 U_max.
+        close(c0_of("trixi"), 100.0 * U);
+    }
+
+    #[test]
+    fn morris1997_takes_the_largest_of_three_terms() {
+        // Morris, Fox and Zhu (1997) 2.2: c^2 = max(U^2/delta,
+        // nu U/(L delta), F L/delta), delta = 0.01, L = 2 B.
+        // Here: 100, 8.66/0.1732 = 50, 0.2309 x 17.32 / 0.01 = 400.
+        let (delta, l) = (0.01, 2.0 * b());
+        let terms = [U * U / delta, nu() * U / (l * delta), p() * l / delta];
+        close(terms[2], 400.0);
+        close(c0_of("morris1997"), 400f64.sqrt());
+    }
+
+    #[test]
+    fn gpusph_is_twenty_times_the_hydrostatic_speed() {
+        // GPUSPH Poiseuille.cu: hydrostatic_vel = sqrt(2 driving_force lz),
+        // c0 = 20 fmax(hydrostatic_vel, max_vel); lz = 2 B.
+        // sqrt(2 x 0.2309 x 17.32) = sqrt(8) > U.
+        let hydrostatic = (2.0 * p() * 2.0 * b()).sqrt();
+        close(hydrostatic, 8f64.sqrt());
+        close(c0_of("gpusph"), 20.0 * 8f64.sqrt());
+    }
+
+    #[test]
+    fn dualsphysics_is_coefsound_times_the_speed_of_the_system() {
+        // DualSPHysics: speedsound = coefsound x speedsystem, coefsound = 20,
+        // speedsystem = sqrt(|g| hswl), g = p, hswl = 2 B: sqrt(4) = 2.
+        close((p() * 2.0 * b()).sqrt(), 2.0);
+        close(c0_of("dualsphysics"), 20.0 * 2.0);
+    }
+
+    #[test]
+    fn derived_eps_is_the_balance_with_the_technical_eps0() {
+        // The paper's balance a c0^2 + b alpha (U/N^2) c0 + c p d = 0 with
+        // a = eps0 K: eps0 -> eps_t scales a by eps_t/eps0, b and c kept.
+        let info = Scene::builtin().kernel_info().unwrap();
+        let m = info.default_c0_model();
+        let (alpha, d) = (Scene::builtin().alpha, 1.0);
+        for (spec, eps_t) in [("derived-eps", 0.01), ("derived-eps:0.03", 0.03)] {
+            let a = m.a.value * eps_t / info.eps.max.value;
+            let (bb, cc) = (m.b.value * alpha * U / (N * N), m.c.value * p() * d);
+            // The positive root of the quadratic (a < 0 < c for this kernel).
+            let disc = (bb * bb - 4.0 * a * cc).sqrt();
+            let root = ((-bb + disc) / (2.0 * a)).max((-bb - disc) / (2.0 * a));
+            let got = c0_of(spec);
+            assert!((got - root).abs() <= 1e-9 * root, "{spec}: {got} != {root}");
+        }
+        // eps_t = eps0 is the derived model itself.
+        let same = format!("derived-eps:{}", info.eps.max.value);
+        assert!((c0_of(&same) - c0_of("derived")).abs() <= 1e-12 * c0_of("derived"));
+    }
 }

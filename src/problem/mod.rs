@@ -287,6 +287,8 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
     positive("rho0", scene.rho0)?;
     positive("decay_tol", scene.decay_tol)?;
     positive("eps_limit", scene.eps_limit)?;
+    positive("linf_bound", scene.linf_bound)?;
+    positive("eps_margin", scene.eps_margin)?;
     if !(0.0..0.5).contains(&scene.jitter) {
         return Err(invalid(
             "jitter",

@@ -32,7 +32,9 @@ use step::{Forces, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
 pub use frame::ParticleFrame;
-pub use result::{DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult};
+pub use result::{
+    classify, Class, DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult,
+};
 
 /// Useful floating-point operations of one step per directed pair within
 /// the support, given the kernel's own count for W and (dW/dq)/q

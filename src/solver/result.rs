@@ -2,9 +2,12 @@
 //! statistics, its samples; the one result type that `output`, the sweep's
 //! rows and the report read.
 
-use serde::Serialize;
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
 
 use super::Sample;
+use crate::config::ClassRules;
 use crate::problem::cost::{DtLimit, TimeStep};
 use crate::problem::Problem;
 
@@ -253,6 +256,34 @@ pub struct RunResult {
 }
 
 impl RunResult {
+    /// The compaction above which this run is over-compressed: the kernel's
+    /// eps0 plus the margin; on a jittered start, the start's own largest
+    /// compaction plus the margin when that is higher (a perturbed lattice
+    /// starts compacted, at any c0: that is no fault of c0). A perfect
+    /// lattice's bound is the kernel's alone.
+    pub fn eps_bound(&self, rules: &ClassRules) -> f64 {
+        let kernel = rules.eps_bound(self.problem.kernel);
+        match self.samples.first() {
+            Some(s0) if self.problem.jitter > 0.0 => kernel.max(s0.max_eps + rules.eps_margin),
+            _ => kernel,
+        }
+    }
+
+    /// The run's class under `rules`: `failed` when the run failed (or was
+    /// stopped), else by its worst L_inf error and largest compaction, see
+    /// [`classify`].
+    pub fn class(&self, rules: &ClassRules) -> Class {
+        match self.outcome {
+            Outcome::Ok => classify(
+                self.linf_rel_err_max(),
+                self.max_eps_run,
+                rules.linf_bound,
+                self.eps_bound(rules),
+            ),
+            Outcome::Failed { .. } | Outcome::Interrupted { .. } => Class::Failed,
+        }
+    }
+
     /// Fluid and wall particles.
     pub fn particles(&self) -> usize {
         self.n_fluid + self.n_wall
@@ -269,5 +300,57 @@ impl RunResult {
     /// The last diagnostics sample.
     pub fn last(&self) -> &Sample {
         self.samples.last().expect("a run has its t = 0 sample")
+    }
+}
+
+/// The outcome class of a run: one definition for `run`, the sweep and
+/// the report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Class {
+    Ok,
+    Inaccurate,
+    OverCompressed,
+    Failed,
+}
+
+impl Class {
+    pub const ALL: [Class; 4] = [
+        Class::Ok,
+        Class::Inaccurate,
+        Class::OverCompressed,
+        Class::Failed,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Ok => "ok",
+            Class::Inaccurate => "inaccurate",
+            Class::OverCompressed => "over-compressed",
+            Class::Failed => "failed",
+        }
+    }
+    /// Parse a class name as written in rows.
+    pub fn parse(s: &str) -> Option<Class> {
+        Class::ALL.into_iter().find(|c| c.name() == s)
+    }
+}
+
+impl fmt::Display for Class {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The class of a run that did not fail: over-compressed before inaccurate
+/// (a compacted lattice is the worse fault), NaN errors count as failed.
+pub fn classify(linf_max: f64, max_eps: f64, linf_bound: f64, eps_bound: f64) -> Class {
+    if !(linf_max.is_finite() && max_eps.is_finite()) {
+        Class::Failed
+    } else if max_eps > eps_bound {
+        Class::OverCompressed
+    } else if linf_max > linf_bound {
+        Class::Inaccurate
+    } else {
+        Class::Ok
     }
 }

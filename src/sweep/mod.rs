@@ -20,11 +20,12 @@ mod grid;
 mod row;
 pub mod store;
 
+pub use crate::config::ClassRules;
+pub use crate::solver::{classify, Class};
 pub use grid::{Point, PointC0, Shard, SweepSpec};
-pub use row::{classify, Row};
+pub use row::Row;
 
 use std::collections::BTreeSet;
-use std::fmt;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -32,7 +33,6 @@ use std::sync::Mutex;
 
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
-use serde::{Deserialize, Serialize};
 
 use crate::config::{C0Spec, Scene, SceneError};
 use crate::kernel::KernelInfo;
@@ -42,86 +42,6 @@ use crate::problem::channel::Channel;
 use crate::problem::cost::Estimate;
 use crate::problem::Problem;
 use crate::solver::{self, FailureKind, Observer};
-
-/// What makes a run `inaccurate` or `over-compressed`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ClassRules {
-    /// A run is `inaccurate` when the worst L_inf error of its layer-mean
-    /// velocity over the output times exceeds this (relative to U). 5 %: the
-    /// best runs at N = 10 stay within 0.2-2 % (Monaghan, Morris at Re = 1,
-    /// discretisation and wall slip), so 5 % is clearly beyond discretisation
-    /// error, and small enough that a profile off by more is visibly wrong.
-    #[serde(default = "default_linf_bound")]
-    pub linf_bound: f64,
-    /// A run is `over-compressed` when its largest compaction exceeds the
-    /// kernel's own lattice pulsation eps0 (the true maximum of eps(t) under
-    /// ideal shear, `KernelInfo.eps.max`: eps(0.5 T) for the paper's kernels)
-    /// by more than this. 1 %: the usual weakly compressible tolerance (Mach
-    /// 0.1); eps0 itself is no fault of c0, it is there at any c0.
-    #[serde(default = "default_eps_margin")]
-    pub eps_margin: f64,
-}
-
-fn default_linf_bound() -> f64 {
-    0.05
-}
-fn default_eps_margin() -> f64 {
-    0.01
-}
-
-impl Default for ClassRules {
-    fn default() -> Self {
-        ClassRules {
-            linf_bound: default_linf_bound(),
-            eps_margin: default_eps_margin(),
-        }
-    }
-}
-
-impl ClassRules {
-    /// The compaction above which a run of kernel `info` is over-compressed.
-    pub fn eps_bound(&self, info: &KernelInfo) -> f64 {
-        info.eps.max.value + self.eps_margin
-    }
-}
-
-/// The outcome class of a point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Class {
-    Ok,
-    Inaccurate,
-    OverCompressed,
-    Failed,
-}
-
-impl Class {
-    pub const ALL: [Class; 4] = [
-        Class::Ok,
-        Class::Inaccurate,
-        Class::OverCompressed,
-        Class::Failed,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            Class::Ok => "ok",
-            Class::Inaccurate => "inaccurate",
-            Class::OverCompressed => "over-compressed",
-            Class::Failed => "failed",
-        }
-    }
-    /// Parse a class name as written in rows.
-    pub fn parse(s: &str) -> Option<Class> {
-        Class::ALL.into_iter().find(|c| c.name() == s)
-    }
-}
-
-impl fmt::Display for Class {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// Hands the stop flag to a running scene, which ends at the next step as
 /// [`solver::Outcome::Interrupted`]; [`run_point`] then drops it whole.

@@ -134,16 +134,14 @@ impl Row {
     pub fn from_run(point: &Point, r: &RunResult, rules: &ClassRules) -> Row {
         let (pr, last) = (&r.problem, r.last());
         let linf_max = r.linf_rel_err_max();
-        let eps_bound = rules.eps_bound(r.problem.kernel);
-        let (class, failure_kind) = match &r.outcome {
-            solver::Outcome::Failed { failure, .. } => (Class::Failed, Some(failure.kind())),
-            solver::Outcome::Ok => (
-                classify(linf_max, r.max_eps_run, rules.linf_bound, eps_bound),
-                None,
-            ),
+        let eps_bound = r.eps_bound(rules);
+        let class = r.class(rules);
+        let failure_kind = match &r.outcome {
+            solver::Outcome::Failed { failure, .. } => Some(failure.kind()),
+            solver::Outcome::Ok => None,
             // [`run_point`] keeps no row of a stopped run (it is rerun on
             // resume); a row made of one anyway does not pass for a result.
-            solver::Outcome::Interrupted { .. } => (Class::Failed, Some(FailureKind::Interrupted)),
+            solver::Outcome::Interrupted { .. } => Some(FailureKind::Interrupted),
         };
         let failure_reason = match class {
             Class::Failed => Some(
@@ -200,19 +198,5 @@ impl Row {
             .expect("a row is an object")
             .remove("wall_s");
         v
-    }
-}
-
-/// The class of a run that did not fail: over-compressed before inaccurate
-/// (a compacted lattice is the worse fault), NaN errors count as failed.
-pub fn classify(linf_max: f64, max_eps: f64, linf_bound: f64, eps_bound: f64) -> Class {
-    if !(linf_max.is_finite() && max_eps.is_finite()) {
-        Class::Failed
-    } else if max_eps > eps_bound {
-        Class::OverCompressed
-    } else if linf_max > linf_bound {
-        Class::Inaccurate
-    } else {
-        Class::Ok
     }
 }

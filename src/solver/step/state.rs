@@ -51,7 +51,9 @@ impl State {
         let n_fluid = lattice.n_fluid();
         let jitter = problem.jitter * lattice.d;
         if jitter > 0.0 {
-            let mut rng = SplitMix64(0x5eed_5be5);
+            // Seed 0 is the generator's original seed, so a scene without
+            // `jitter_seed` keeps the lattice it always had.
+            let mut rng = SplitMix64(0x5eed_5be5 ^ u64::from(problem.scene.jitter_seed));
             for i in 0..n_fluid {
                 x[i] += jitter * rng.symmetric();
                 y[i] += jitter * rng.symmetric();
