@@ -65,9 +65,10 @@ impl Default for ClassRules {
 }
 
 impl ClassRules {
-    /// The compaction above which a run of kernel `info` is over-compressed.
-    pub fn eps_bound(&self, info: &KernelInfo) -> f64 {
-        info.eps.max.value + self.eps_margin
+    /// The compaction above which a run on discretisation `disc` is
+    /// over-compressed: its own lattice's maximum compaction plus the margin.
+    pub fn eps_bound(&self, disc: &DiscretisationInfo) -> f64 {
+        disc.eps.max.value + self.eps_margin
     }
 }
 

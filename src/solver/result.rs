@@ -262,7 +262,7 @@ impl RunResult {
     /// starts compacted, at any c0: that is no fault of c0). A perfect
     /// lattice's bound is the kernel's alone.
     pub fn eps_bound(&self, rules: &ClassRules) -> f64 {
-        let kernel = rules.eps_bound(self.problem.kernel);
+        let kernel = rules.eps_bound(self.problem.discretisation);
         match self.samples.first() {
             Some(s0) if self.problem.jitter > 0.0 => kernel.max(s0.max_eps + rules.eps_margin),
             _ => kernel,
