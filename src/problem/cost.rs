@@ -215,7 +215,7 @@ pub fn check_memory(
     let particles = lattice.n_particles() as f64;
     let neighbours = listed_neighbours(lattice.d, lattice.h, support, skin);
     let bytes = memory_bytes(particles, neighbours, samples, layers);
-    if !(bytes <= MAX_RUN_BYTES) {
+    if bytes.is_nan() || bytes > MAX_RUN_BYTES {
         let kept = samples * bytes_per_sample(layers);
         let field = if kept > 0.5 * bytes {
             "output_interval"
@@ -253,7 +253,7 @@ pub fn check_run_time(
     let est = Estimate::new(channel, c0, t_end);
     let est_s = est.seconds(channel, support);
     // A NaN estimate (from an infinite step count) is refused too.
-    if !(est_s <= max_run_s) {
+    if est_s.is_nan() || est_s > max_run_s {
         let particles = channel.lattice.n_particles() as f64;
         return Err(invalid(
             "max_run_s",
