@@ -217,7 +217,7 @@ pub fn rational_text(v: f64) -> String {
             ((p / f64::from(q) - v).abs() <= 1e-12 * v.abs()).then_some((p, q))
         })
         .map_or_else(
-            || format!("{v}"),
+            || fmt_value(v),
             |(p, q)| {
                 if q == 1 {
                     format!("{p}")
@@ -236,17 +236,29 @@ pub fn discretisation(
     lattice: Lattice,
     h_over_d: f64,
 ) -> Result<&'static DiscretisationInfo, SceneError> {
+    // the generator derives 0 < h/d <= 4 (codegen's MAX_H_OVER_D): outside
+    // it there is no line to add, only a value to change
+    if !(h_over_d > 0.0 && h_over_d <= 4.0) {
+        return Err(invalid(
+            "h_over_d",
+            format!(
+                "{} is outside (0, 4], the h/d the generator derives; use a generated one (1, 13/10, ...)",
+                fmt_value(h_over_d)
+            ),
+        ));
+    }
     info.discretisation(lattice, h_over_d).ok_or_else(|| {
         let known: Vec<String> = info.discretisations.iter().map(|d| d.label()).collect();
         invalid(
             "h_over_d",
             format!(
-                "kernel {} has no generated discretisation with lattice = {:?} and h = {h_over_d} d \
+                "kernel {} has no generated discretisation with lattice = {:?} and h = {} d \
                  (generated: {}); add to kernels/discretisations.toml\n\n[[discretisation]]\n\
                  lattice = \"{}\"\nh_over_d = {}\n\nthen run `cargo run -p shearsph-codegen -- generate` \
                  and rebuild",
                 info.name,
                 lattice.name(),
+                fmt_value(h_over_d),
                 known.join("; "),
                 lattice.name(),
                 rational_text(h_over_d),

@@ -170,25 +170,34 @@ fn n_too_small_for_the_support_is_refused() {
 
 #[test]
 fn non_positive_u_is_refused() {
-    assert_refused(&["--u", "-1"], &["`u`", "--u", "must be a positive number"]);
-    assert_refused(&["--u", "0"], &["`u`", "--u", "must be a positive number"]);
+    assert_refused(
+        &["--u", "-1"],
+        &["`u`", "--u", "must be a positive finite number"],
+    );
+    assert_refused(
+        &["--u", "0"],
+        &["`u`", "--u", "must be a positive finite number"],
+    );
 }
 
 #[test]
 fn non_positive_re_is_refused() {
     assert_refused(
         &["--re", "0"],
-        &["`re`", "--re", "must be a positive number"],
+        &["`re`", "--re", "must be a positive finite number"],
     );
     assert_refused(
         &["--re", "-3"],
-        &["`re`", "--re", "must be a positive number"],
+        &["`re`", "--re", "must be a positive finite number"],
     );
 }
 
 #[test]
 fn non_positive_d_is_refused() {
-    assert_refused(&["--d", "0"], &["`d`", "--d", "must be a positive number"]);
+    assert_refused(
+        &["--d", "0"],
+        &["`d`", "--d", "must be a positive finite number"],
+    );
 }
 
 #[test]
@@ -213,11 +222,11 @@ fn non_positive_c0_is_refused() {
 fn non_positive_end_time_is_refused() {
     assert_refused(
         &["--t-end", "-5"],
-        &["`t_end`", "--t-end", "must be a positive number"],
+        &["`t_end`", "--t-end", "must be a positive finite number"],
     );
     assert_refused(
         &["--t-end", "0"],
-        &["`t_end`", "--t-end", "must be a positive number"],
+        &["`t_end`", "--t-end", "must be a positive finite number"],
     );
 }
 

@@ -227,7 +227,10 @@ fn what_run_writes_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().join("run");
     let (code, summary) = run_cli(&d, &["--kernel", "monaghan", "--n", "6", "--re", "10"]);
-    assert_eq!(code, 0, "{summary}");
+    // the run reaches its end (its class, and so its exit code, may be
+    // over-compressed: 5; the snapshots are written whatever the class)
+    assert_eq!(summary["outcome"], "ok", "{summary}");
+    assert!(matches!(code, 0 | 4 | 5), "{code}: {summary}");
     let particles = summary["particles"].as_u64().unwrap() as usize;
     let fluid = summary["fluid_particles"].as_u64().unwrap() as usize;
     let times = timeseries_times(&d);
