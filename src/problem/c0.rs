@@ -128,6 +128,7 @@ pub fn no_c0_fact(rule: &C0Rule, info: &KernelInfo, channel: &Channel) -> Option
         C0Rule::Derived(name) => channel
             .discretisation
             .no_c0_fact(name.as_deref().unwrap_or(info.c0_default)),
+        C0Rule::DerivedEps(_) => channel.discretisation.no_c0_fact(info.c0_default),
         _ => None,
     }
 }
@@ -211,6 +212,15 @@ pub fn resolve(
                  (`shearsph c0` lists them)",
                 info.name,
                 channel.discretisation.label()
+            ),
+        ))
+    } else if c0.is_nan() {
+        Err(invalid(
+            "c0",
+            format!(
+                "{spec} has no positive root for this scene (P alpha^2 + Q A < 0 in the derived \
+                 c0 = (U/N^2)(sqrt(P alpha^2 + Q A) - S alpha), or for derived-eps a maximum \
+                 compaction that is not positive), so it is not a positive sound speed; give a positive number or another rule (`shearsph c0` lists them)"
             ),
         ))
     } else {

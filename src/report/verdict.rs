@@ -93,6 +93,10 @@ pub fn verdicts(
                     fmt_num(c),
                     run_words(d)
                 )),
+                (Some(d), None) if d.c0_over_u.is_nan() => s.push(format!(
+                    "derived c0 ({}): the derivation has no positive root for this scene (P alpha^2 + Q A < 0), so there is no derived sound speed to run.",
+                    d.rule
+                )),
                 (Some(d), None) => s.push(format!(
                     "derived c0 ({}): the derivation gives c0 = {} for this scene, no positive root, so there is no derived sound speed to run.",
                     d.rule,

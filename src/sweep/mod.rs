@@ -139,7 +139,11 @@ pub fn run_point_with(
             _ => FailureKind::Scene,
         };
         let reason = if kind == FailureKind::NoC0 && !rule.is_empty() {
-            format!("{rule} gives c0 = {c0:.6}: no positive root for this scene")
+            if c0.is_nan() {
+                format!("{rule}: no positive root for this scene (P alpha^2 + Q A < 0)")
+            } else {
+                format!("{rule} gives c0 = {c0:.6}: no positive root for this scene")
+            }
         } else {
             e.to_string()
         };
