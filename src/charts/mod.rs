@@ -1,10 +1,12 @@
 //! Every chart (SVG, plotters): one run's ([`run`]: profile, time series)
 //! and the sweep's and report's ([`sweep`]: speed against accuracy,
-//! stability maps, Figure 4).
+//! stability maps, Figure 4), and the clean log-axis ticks they share
+//! ([`ticks`]).
 
 pub mod figure4;
 pub mod run;
 pub mod sweep;
+pub mod ticks;
 
 pub use figure4::*;
 pub use sweep::*;
@@ -21,7 +23,7 @@ fn chart_err<E: std::error::Error + Send + Sync + 'static>(
 use plotters::coord::combinators::{BindKeyPoints, WithKeyPoints};
 use plotters::prelude::{IntoLogRange, LogCoord};
 
-use crate::particles::ticks::{log_ticks, Tick};
+use ticks::{log_ticks, Tick};
 
 /// A log axis over [lo, hi] with [`log_ticks`]: labelled decades (bold
 /// mesh lines) and unlabelled 2..9 (light ones). Label the axis with

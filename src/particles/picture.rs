@@ -4,6 +4,7 @@
 //! particle ringed and labelled (the one that triggered a failure).
 
 use anyhow::Result;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::colors::colormaps::ViridisRGB;
 
@@ -63,38 +64,90 @@ pub fn particle_svg(
     let finite: Vec<usize> = (0..n)
         .filter(|&i| frame.x[i].is_finite() && frame.y[i].is_finite())
         .collect();
-    let range = |v: &[f64]| {
-        let (lo, hi) = finite
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
-                (a.min(v[i]), b.max(v[i]))
-            });
-        if lo.is_finite() && hi > lo {
-            (lo, hi)
-        } else if lo.is_finite() {
-            (lo - 1.0, lo + 1.0)
-        } else {
-            (-1.0, 1.0)
-        }
-    };
-    let (x0, x1) = range(frame.x);
-    let (y0, y1) = range(frame.y);
-    let pad = 0.03 * (x1 - x0).max(y1 - y0);
-    let (x0, x1, y0, y1) = (x0 - pad, x1 + pad, y0 - pad, y1 + pad);
+    let view = View::of(frame, &finite);
     let values: &[f64] = match by {
         ColourBy::Eps => frame.eps,
         ColourBy::TransverseVelocity => frame.vy,
     };
-    let fluid_vals = || {
-        finite
-            .iter()
-            .filter(|&&i| !frame.wall[i])
-            .map(|&i| values[i])
-            .filter(|v| v.is_finite())
-    };
-    let (mut c0, mut c1) = fluid_vals().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-        (a.min(v), b.max(v))
-    });
+    let colours = colour_range(frame, &finite, values, by);
+
+    let plot_w = 860u32;
+    let aspect = ((view.y1 - view.y0) / (view.x1 - view.x0)).clamp(0.2, 3.0);
+    let plot_h = (plot_w as f64 * aspect) as u32 + 90;
+    let width = plot_w + 150;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, plot_h)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (main, bar) = root.split_horizontally(plot_w + 20);
+        let dots = Dots {
+            frame,
+            finite: &finite,
+            values,
+            colours,
+        };
+        draw_field(&main, &dots, &view, plot_w, mark, title)?;
+        draw_colour_bar(&bar, by, colours)?;
+        root.present().map_err(draw_err)?;
+    }
+    Ok(svg)
+}
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// The plotted window: the finite particles' extent, padded.
+#[derive(Clone, Copy)]
+struct View {
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+}
+
+impl View {
+    fn of(frame: &ParticleFrame, finite: &[usize]) -> View {
+        let range = |v: &[f64]| {
+            let (lo, hi) = finite
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
+                    (a.min(v[i]), b.max(v[i]))
+                });
+            if lo.is_finite() && hi > lo {
+                (lo, hi)
+            } else if lo.is_finite() {
+                (lo - 1.0, lo + 1.0)
+            } else {
+                (-1.0, 1.0)
+            }
+        };
+        let (x0, x1) = range(frame.x);
+        let (y0, y1) = range(frame.y);
+        let pad = 0.03 * (x1 - x0).max(y1 - y0);
+        View {
+            x0: x0 - pad,
+            x1: x1 + pad,
+            y0: y0 - pad,
+            y1: y1 + pad,
+        }
+    }
+}
+
+/// The colour scale's ends: the fluid's finite values (symmetric about 0
+/// for v_y), widened when they are all one value.
+fn colour_range(
+    frame: &ParticleFrame,
+    finite: &[usize],
+    values: &[f64],
+    by: ColourBy,
+) -> (f64, f64) {
+    let (mut c0, mut c1) = finite
+        .iter()
+        .filter(|&&i| !frame.wall[i])
+        .map(|&i| values[i])
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     if by == ColourBy::TransverseVelocity {
         // symmetric about 0, so the colour of v_y = 0 is the middle one
         let m = c0.abs().max(c1.abs());
@@ -104,107 +157,122 @@ pub fn particle_svg(
         let mid = if c0.is_finite() { c0 } else { 0.0 };
         (c0, c1) = (mid - 1e-12, mid + 1e-12);
     }
+    (c0, c1)
+}
 
-    let plot_w = 860u32;
-    let aspect = ((y1 - y0) / (x1 - x0)).clamp(0.2, 3.0);
-    let plot_h = (plot_w as f64 * aspect) as u32 + 90;
-    let width = plot_w + 150;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (width, plot_h)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw_err)?;
-        let (main, bar) = root.split_horizontally(plot_w + 20);
-        let mut chart = ChartBuilder::on(&main)
-            .caption(title, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(55)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(draw_err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("x / d")
-            .y_desc("y / d")
-            .label_style(("sans-serif", 13))
-            .axis_desc_style(("sans-serif", 14))
-            .draw()
-            .map_err(draw_err)?;
-        // a dot a little smaller than the particle spacing
-        let spacing = ((x1 - x0) * (y1 - y0) / finite.len().max(1) as f64).sqrt();
-        let px = spacing / (x1 - x0) * plot_w as f64;
-        let r = (0.4 * px).clamp(1.0, 6.0) as i32;
-        let grey = RGBColor(150, 150, 150);
-        chart
-            .draw_series(finite.iter().filter(|&&i| frame.wall[i]).map(|&i| {
-                EmptyElement::at((frame.x[i], frame.y[i]))
-                    + Rectangle::new([(-r, -r), (r, r)], grey.filled())
-            }))
-            .map_err(draw_err)?;
-        chart
-            .draw_series(finite.iter().filter(|&&i| !frame.wall[i]).map(|&i| {
-                let v = values[i];
-                let colour = if v.is_finite() {
-                    ViridisRGB.get_color_normalized(v, c0, c1)
-                } else {
-                    BLACK
-                };
-                Circle::new((frame.x[i], frame.y[i]), r, colour.filled())
-            }))
-            .map_err(draw_err)?;
-        if let Some(m) = mark {
-            let (x, y) = (frame.x[m.index], frame.y[m.index]);
-            let (x, y) = if x.is_finite() && y.is_finite() {
-                (x, y)
-            } else {
-                ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
-            };
-            chart
-                .draw_series([EmptyElement::at((x, y))
-                    + Circle::new((0, 0), RING_RADIUS_PX, RED.stroke_width(3))
-                    + Text::new(
-                        m.label.clone(),
-                        (RING_RADIUS_PX + 4, -RING_RADIUS_PX - 4),
-                        ("sans-serif", 15).into_font().color(&RED),
-                    )])
-                .map_err(draw_err)?;
-        }
-        // the colour bar
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_top(40)
-            .margin_bottom(45)
-            .margin_right(30)
-            .y_label_area_size(60)
-            .caption(by.label(), ("sans-serif", 15))
-            .build_cartesian_2d(0.0..1.0, c0..c1)
-            .map_err(draw_err)?;
-        cb.configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_labels(6)
-            .y_label_style(("sans-serif", 13))
-            .y_label_formatter(&|v| {
-                // a tick at round-off from zero reads 0, not -5.55e-17
-                let v = if v.abs() <= 1e-9 * (c1 - c0) { 0.0 } else { *v };
-                crate::format::fmt_num(v)
-            })
-            .draw()
-            .map_err(draw_err)?;
-        let steps = 64;
-        cb.draw_series((0..steps).map(|k| {
-            let a = c0 + (c1 - c0) * k as f64 / steps as f64;
-            let b = c0 + (c1 - c0) * (k + 1) as f64 / steps as f64;
-            Rectangle::new(
-                [(0.0, a), (1.0, b)],
-                ViridisRGB
-                    .get_color_normalized((a + b) / 2.0, c0, c1)
-                    .filled(),
-            )
+/// What the dots show: the frame's finite particles, coloured by `values`
+/// over the scale `colours`.
+struct Dots<'a> {
+    frame: &'a ParticleFrame<'a>,
+    finite: &'a [usize],
+    values: &'a [f64],
+    colours: (f64, f64),
+}
+
+/// The particles (walls grey squares, fluid coloured dots) and the mark.
+fn draw_field(
+    area: &Area,
+    dots: &Dots,
+    view: &View,
+    plot_w: u32,
+    mark: Option<&Mark>,
+    title: &str,
+) -> Result<()> {
+    let (frame, finite, values, (c0, c1)) = (dots.frame, dots.finite, dots.values, dots.colours);
+    let View { x0, x1, y0, y1 } = *view;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x / d")
+        .y_desc("y / d")
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .draw()
+        .map_err(draw_err)?;
+    // a dot a little smaller than the particle spacing
+    let spacing = ((x1 - x0) * (y1 - y0) / finite.len().max(1) as f64).sqrt();
+    let px = spacing / (x1 - x0) * plot_w as f64;
+    let r = (0.4 * px).clamp(1.0, 6.0) as i32;
+    let grey = RGBColor(150, 150, 150);
+    chart
+        .draw_series(finite.iter().filter(|&&i| frame.wall[i]).map(|&i| {
+            EmptyElement::at((frame.x[i], frame.y[i]))
+                + Rectangle::new([(-r, -r), (r, r)], grey.filled())
         }))
         .map_err(draw_err)?;
-        root.present().map_err(draw_err)?;
+    chart
+        .draw_series(finite.iter().filter(|&&i| !frame.wall[i]).map(|&i| {
+            let v = values[i];
+            let colour = if v.is_finite() {
+                ViridisRGB.get_color_normalized(v, c0, c1)
+            } else {
+                BLACK
+            };
+            Circle::new((frame.x[i], frame.y[i]), r, colour.filled())
+        }))
+        .map_err(draw_err)?;
+    if let Some(m) = mark {
+        let (x, y) = (frame.x[m.index], frame.y[m.index]);
+        let (x, y) = if x.is_finite() && y.is_finite() {
+            (x, y)
+        } else {
+            ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
+        };
+        chart
+            .draw_series([EmptyElement::at((x, y))
+                + Circle::new((0, 0), RING_RADIUS_PX, RED.stroke_width(3))
+                + Text::new(
+                    m.label.clone(),
+                    (RING_RADIUS_PX + 4, -RING_RADIUS_PX - 4),
+                    ("sans-serif", 15).into_font().color(&RED),
+                )])
+            .map_err(draw_err)?;
     }
-    Ok(svg)
+    Ok(())
+}
+
+/// The colour bar of the scale (c0, c1).
+fn draw_colour_bar(area: &Area, by: ColourBy, (c0, c1): (f64, f64)) -> Result<()> {
+    let mut cb = ChartBuilder::on(area)
+        .margin_top(40)
+        .margin_bottom(45)
+        .margin_right(30)
+        .y_label_area_size(60)
+        .caption(by.label(), ("sans-serif", 15))
+        .build_cartesian_2d(0.0..1.0, c0..c1)
+        .map_err(draw_err)?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(6)
+        .y_label_style(("sans-serif", 13))
+        .y_label_formatter(&|v| {
+            // a tick at round-off from zero reads 0, not -5.55e-17
+            let v = if v.abs() <= 1e-9 * (c1 - c0) { 0.0 } else { *v };
+            crate::format::fmt_num(v)
+        })
+        .draw()
+        .map_err(draw_err)?;
+    let steps = 64;
+    cb.draw_series((0..steps).map(|k| {
+        let a = c0 + (c1 - c0) * k as f64 / steps as f64;
+        let b = c0 + (c1 - c0) * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            ViridisRGB
+                .get_color_normalized((a + b) / 2.0, c0, c1)
+                .filled(),
+        )
+    }))
+    .map_err(draw_err)?;
+    Ok(())
 }
 
 #[cfg(test)]
