@@ -1,18 +1,18 @@
 //! A run's outputs in one folder: `summary.json`, `profile.csv`,
-//! `timeseries.csv`, `scene.toml` (the scene as run) and the charts
-//! `profile.svg` and `timeseries.svg`. Every file is written to a temporary
-//! file in the same folder and renamed into place, so a reader never sees
-//! half a file; an existing non-empty folder is not touched without `force`.
+//! `timeseries.csv`, `scene.toml` (the scene as run), beside the charts
+//! (`crate::charts::run`) and the particles (`crate::particles`). The write
+//! path is [`atomic`]: a run's files are staged and swapped in as one set, so
+//! a reader never sees half a file nor a new file beside an old one; an
+//! existing non-empty folder is not touched without `force`.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
-use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
-use crate::charts::run::{profile_svg, timeseries_svg};
+pub mod atomic;
+pub use atomic::{prepare_dir, write_atomic, StagedSet};
+
 use crate::solver::{Class, DtLimitSteps, Outcome, Particle, RunResult, Sample};
 
 /// The figures of one run, as `summary.json` and `shearsph run --json`.
@@ -157,100 +157,15 @@ impl Summary {
     }
 }
 
-/// Make sure `dir` can take a run's outputs: create it, or refuse when it
-/// exists with files in it and `force` is not set. Call before running, so a
-/// refused folder costs nothing.
-pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
-    if dir.exists() {
-        if !dir.is_dir() {
-            bail!("output path {} exists and is not a folder", dir.display());
-        }
-        let non_empty = std::fs::read_dir(dir)
-            .with_context(|| format!("reading output folder {}", dir.display()))?
-            .next()
-            .is_some();
-        if non_empty && !force {
-            bail!(
-                "output folder {} already exists and is not empty; pass --force to overwrite its files, or choose \
-                 another with --out",
-                dir.display()
-            );
-        }
-    }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output folder {}", dir.display()))?;
-    // Writable? A probe file of our own, created and removed now, so a
-    // read-only folder is found before the run, not after it.
-    let probe = dir.join(format!(".shearsph-probe-{}", std::process::id()));
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&probe)
-        .with_context(|| {
-            format!(
-                "output folder {} is not writable (a test file could not be created there); \
-                 fix its permissions or choose another with --out",
-                dir.display()
-            )
-        })?;
-    std::fs::remove_file(&probe).with_context(|| format!("removing {}", probe.display()))
-}
-
-/// Write `bytes` to `path` atomically: a new file beside it (same folder,
-/// so the rename cannot cross file systems), renamed over the target. The
-/// file gets the usual permissions (the umask's), like any other.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    static SERIAL: AtomicU64 = AtomicU64::new(0);
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(
-        ".{name}.tmp-{}-{}",
-        std::process::id(),
-        SERIAL.fetch_add(1, Ordering::Relaxed)
-    ));
-    let written = (|| -> std::io::Result<()> {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written.with_context(|| format!("writing {}", path.display()))
-}
-
-/// Write every output of `result` into `dir` (see [`prepare_dir`]).
-pub fn write_outputs(dir: &Path, result: &RunResult, force: bool) -> Result<()> {
-    prepare_dir(dir, force)?;
-    write_atomic(
-        &dir.join("summary.json"),
-        Summary::new(result).to_json().as_bytes(),
-    )?;
-    write_atomic(
-        &dir.join("scene.toml"),
-        result.problem.scene.to_toml().as_bytes(),
-    )?;
-    write_atomic(
-        &dir.join("profile.csv"),
-        profile_csv(result.last()).as_bytes(),
-    )?;
-    write_atomic(
-        &dir.join("timeseries.csv"),
-        timeseries_csv(&result.samples).as_bytes(),
-    )?;
-    write_atomic(&dir.join("profile.svg"), profile_svg(result)?.as_bytes())?;
-    write_atomic(
-        &dir.join("timeseries.svg"),
-        timeseries_svg(result)?.as_bytes(),
-    )?;
-    Ok(())
+/// Stage the run's text outputs in `set` (see [`StagedSet`]): the summary,
+/// the scene as run, the profile and the time series. Its charts are
+/// [`crate::charts::run::stage_charts`], its particles
+/// [`crate::particles::series`].
+pub fn write_outputs(set: &StagedSet, result: &RunResult) -> Result<()> {
+    set.put("summary.json", Summary::new(result).to_json().as_bytes())?;
+    set.put("scene.toml", result.problem.scene.to_toml().as_bytes())?;
+    set.put("profile.csv", profile_csv(result.last()).as_bytes())?;
+    set.put("timeseries.csv", timeseries_csv(&result.samples).as_bytes())
 }
 
 /// The layer profile of one sample.

@@ -2,9 +2,11 @@
 //! time series of the error and the compaction.
 
 use anyhow::Result;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{chart_err, LogAxis};
+use crate::output::StagedSet;
 use crate::solver::{Outcome, RunResult, Sample};
 
 const SIZE: (u32, u32) = (900, 650);
@@ -99,132 +101,154 @@ pub fn profile_svg(r: &RunResult) -> Result<String> {
 pub fn timeseries_svg(r: &RunResult) -> Result<String> {
     let s = &r.samples;
     let t_max = s.last().map_or(1.0, |l| l.t).max(1e-12);
-    let u = r.problem.flow.u;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (SIZE.0, 900)).into_drawing_area();
         root.fill(&WHITE).map_err(chart_err)?;
         let panels = root.split_evenly((3, 1));
-
-        // Errors, on a log scale (the error at t = 0 is zero: skipped).
-        let err_points = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-            s.iter()
-                .map(|x| (x.t, f(x)))
-                .filter(|p| p.1 > 0.0 && p.1.is_finite())
-                .collect()
-        };
-        let linf = err_points(|x| x.linf_rel_err);
-        let l2 = err_points(|x| x.l2_rel_err);
-        let (lo, hi) = linf
-            .iter()
-            .chain(&l2)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
-                (lo.min(p.1), hi.max(p.1))
-            });
-        let (lo, hi) = if lo < hi {
-            (lo / 2.0, hi * 2.0)
-        } else {
-            (1e-6, 1.0)
-        };
-        let (y_coord, y_axis) = LogAxis::new(lo, hi, 8);
-        let mut chart = ChartBuilder::on(&panels[0])
-            .caption("velocity error / U (layer means)", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, y_coord)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .y_label_formatter(&|v| y_axis.label(v))
-            .draw()
-            .map_err(chart_err)?;
-        for (pts, name, color) in [(linf, "L_inf", RED), (l2, "L2", BLUE)] {
-            chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(chart_err)?
-                .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
-
-        // Compaction.
-        let finite = |v: f64| if v.is_finite() { Some(v) } else { None };
-        let eps: Vec<(f64, f64, f64)> = s
-            .iter()
-            .filter_map(|x| Some((x.t, finite(x.max_eps)?, finite(x.mean_eps)?)))
-            .collect();
-        let (lo, hi) = eps
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
-                (lo.min(e.2).min(e.1), hi.max(e.1))
-            });
-        let pad = ((hi - lo) * 0.1).max(1e-6);
-        let (lo, hi) = if lo <= hi {
-            (lo - pad, hi + pad)
-        } else {
-            (-1.0, 1.0)
-        };
-        let mut chart = ChartBuilder::on(&panels[1])
-            .caption("compaction eps = rho/rho0 - 1 (fluid)", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, lo..hi)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .draw()
-            .map_err(chart_err)?;
-        let max: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.1)).collect();
-        let mean: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.2)).collect();
-        for (pts, name, color) in [(max, "max", RED), (mean, "mean", BLUE)] {
-            chart
-                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(chart_err)?
-                .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(chart_err)?;
-
-        // Transverse pulsation.
-        let v: Vec<(f64, f64)> = s
-            .iter()
-            .filter_map(|x| Some((x.t, finite(x.rms_v / u)?)))
-            .collect();
-        let hi = v.iter().map(|p| p.1).fold(0.0f64, f64::max).max(1e-12) * 1.1;
-        let mut chart = ChartBuilder::on(&panels[2])
-            .caption("RMS transverse velocity / U", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, 0.0..hi)
-            .map_err(chart_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t")
-            .draw()
-            .map_err(chart_err)?;
-        chart
-            .draw_series(LineSeries::new(v, GREEN.stroke_width(2)))
-            .map_err(chart_err)?;
+        error_panel(&panels[0], s, t_max)?;
+        eps_panel(&panels[1], s, t_max)?;
+        pulsation_panel(&panels[2], s, t_max, r.problem.flow.u)?;
         root.present().map_err(chart_err)?;
     }
     Ok(svg)
+}
+
+/// Stage the run's charts, `profile.svg` and `timeseries.svg`, in `set`.
+pub fn stage_charts(set: &StagedSet, r: &RunResult) -> Result<()> {
+    set.put("profile.svg", profile_svg(r)?.as_bytes())?;
+    set.put("timeseries.svg", timeseries_svg(r)?.as_bytes())
+}
+
+type Panel<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// `Some(v)` when `v` is finite.
+fn finite(v: f64) -> Option<f64> {
+    if v.is_finite() {
+        Some(v)
+    } else {
+        None
+    }
+}
+
+/// A line's points, its legend entry and its colour.
+type Line<'n> = (Vec<(f64, f64)>, &'n str, RGBColor);
+
+/// Lines with a legend entry each, and the legend.
+fn labelled_lines<'a, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    lines: [Line; 2],
+) -> Result<()> {
+    for (pts, name, color) in lines {
+        chart
+            .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+            .map_err(chart_err)?
+            .label(name)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(chart_err)
+}
+
+/// The errors, on a log scale (the error at t = 0 is zero: skipped).
+fn error_panel(area: &Panel, s: &[Sample], t_max: f64) -> Result<()> {
+    let err_points = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        s.iter()
+            .map(|x| (x.t, f(x)))
+            .filter(|p| p.1 > 0.0 && p.1.is_finite())
+            .collect()
+    };
+    let linf = err_points(|x| x.linf_rel_err);
+    let l2 = err_points(|x| x.l2_rel_err);
+    let (lo, hi) = linf
+        .iter()
+        .chain(&l2)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
+            (lo.min(p.1), hi.max(p.1))
+        });
+    let (lo, hi) = if lo < hi {
+        (lo / 2.0, hi * 2.0)
+    } else {
+        (1e-6, 1.0)
+    };
+    let (y_coord, y_axis) = LogAxis::new(lo, hi, 8);
+    let mut chart = ChartBuilder::on(area)
+        .caption("velocity error / U (layer means)", ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, y_coord)
+        .map_err(chart_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .y_label_formatter(&|v| y_axis.label(v))
+        .draw()
+        .map_err(chart_err)?;
+    labelled_lines(&mut chart, [(linf, "L_inf", RED), (l2, "L2", BLUE)])
+}
+
+/// The compaction, largest and mean.
+fn eps_panel(area: &Panel, s: &[Sample], t_max: f64) -> Result<()> {
+    let eps: Vec<(f64, f64, f64)> = s
+        .iter()
+        .filter_map(|x| Some((x.t, finite(x.max_eps)?, finite(x.mean_eps)?)))
+        .collect();
+    let (lo, hi) = eps
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+            (lo.min(e.2).min(e.1), hi.max(e.1))
+        });
+    let pad = ((hi - lo) * 0.1).max(1e-6);
+    let (lo, hi) = if lo <= hi {
+        (lo - pad, hi + pad)
+    } else {
+        (-1.0, 1.0)
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption("compaction eps = rho/rho0 - 1 (fluid)", ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, lo..hi)
+        .map_err(chart_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .draw()
+        .map_err(chart_err)?;
+    let max: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.1)).collect();
+    let mean: Vec<(f64, f64)> = eps.iter().map(|e| (e.0, e.2)).collect();
+    labelled_lines(&mut chart, [(max, "max", RED), (mean, "mean", BLUE)])
+}
+
+/// The transverse pulsation, RMS v / U.
+fn pulsation_panel(area: &Panel, s: &[Sample], t_max: f64, u: f64) -> Result<()> {
+    let v: Vec<(f64, f64)> = s
+        .iter()
+        .filter_map(|x| Some((x.t, finite(x.rms_v / u)?)))
+        .collect();
+    let hi = v.iter().map(|p| p.1).fold(0.0f64, f64::max).max(1e-12) * 1.1;
+    let mut chart = ChartBuilder::on(area)
+        .caption("RMS transverse velocity / U", ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, 0.0..hi)
+        .map_err(chart_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .draw()
+        .map_err(chart_err)?;
+    chart
+        .draw_series(LineSeries::new(v, GREEN.stroke_width(2)))
+        .map_err(chart_err)?;
+    Ok(())
 }

@@ -1,6 +1,10 @@
 //! `shearsph run`: one scene, with a progress bar; writes the summary, the
 //! profile, the time series and the charts, and prints the summary. Ctrl-C
 //! ends the run at the next step and writes the same outputs up to there.
+//! Every output, the particle snapshots too, is staged while the run goes
+//! and swapped into `--out` as one set at the end ([`StagedSet`]): over an
+//! earlier run (`--force`), an error on the way (a full disk) leaves that
+//! run's files as they were.
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -8,17 +12,18 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
-use crate::output::{self, Summary};
-use crate::particles::series::{self, ParticleOutput};
+use crate::charts::run::stage_charts;
+use crate::output::{self, StagedSet, Summary};
+use crate::particles::series::{self, ParticleOutput, Snapshot};
 use crate::problem::Problem;
 use crate::run::run_problem;
-use crate::solver::{Class, Observer, Outcome, Sample};
+use crate::solver::{Class, Observer, Outcome, RunResult, Sample};
 
 /// Exit status of a run that completed but whose class is `failed`.
 pub const EXIT_FAILED_RUN: u8 = 3;
@@ -66,6 +71,7 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
     // Check everything before touching the output folder.
     let problem = Problem::resolve(&scene, scene.kernel_info()?)?;
     output::prepare_dir(&args.out, args.force)?;
+    let set = StagedSet::begin(&args.out)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -105,15 +111,16 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
         stop,
     };
     let every = (!args.no_particles).then_some(args.particles_every);
-    let mut observer = ParticleOutput::new(&mut progress, &args.out, every);
+    let mut observer = ParticleOutput::new(&mut progress, set.path(), every);
     let result = run_problem(&problem, &mut observer);
     bar.finish_and_clear();
     let last = observer.finish();
-
-    output::write_outputs(&args.out, &result, true)?;
-    if let Some(last) = last? {
-        series::write_picture(&args.out, &last, &result)?;
-    }
+    write_set(set, &result, last).with_context(|| {
+        format!(
+            "writing the outputs of the run; {} keeps its earlier files",
+            args.out.display()
+        )
+    })?;
     let class = result.class(&result.problem.scene.classes());
     let summary = Summary::new(&result);
     if args.json {
@@ -135,6 +142,18 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
             ExitCode::from(EXIT_INTERRUPTED)
         }
     })
+}
+
+/// Every output of the run, staged beside the particle series already in
+/// `set`, then swapped in as one set.
+fn write_set(set: StagedSet, result: &RunResult, last: Result<Option<Snapshot>>) -> Result<()> {
+    output::write_outputs(&set, result)?;
+    stage_charts(&set, result)?;
+    if let Some(last) = last? {
+        series::write_picture(set.path(), &last, result)?;
+    }
+    set.commit()?;
+    Ok(())
 }
 
 struct Progress {

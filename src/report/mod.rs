@@ -27,7 +27,7 @@ use crate::charts::{self, EpsCurve, EpsPanel, MapCell, MapLine};
 use crate::config::{C0Rule, C0Spec};
 use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
-use crate::output::{prepare_dir, write_atomic};
+use crate::output::{prepare_dir, StagedSet};
 use crate::particles::series::{picture_svg, ParticleOutput};
 use crate::problem::c0::{all_rules, by_rule};
 use crate::problem::channel::Channel;
@@ -506,8 +506,10 @@ pub fn run(
 }
 
 /// The figures and their CSV, the tables, the rows, and `index.html` last.
+/// Staged and swapped in as one set: a full disk keeps the earlier report.
 fn write(d: &ReportData, out: &Path) -> Result<()> {
-    let put = |name: &str, text: &str| write_atomic(&out.join(name), text.as_bytes());
+    let set = StagedSet::begin(out)?;
+    let put = |name: &str, text: &str| set.put(name, text.as_bytes());
     let mut figures: Vec<html::Figure> = Vec::new();
 
     put(
@@ -654,6 +656,7 @@ fn write(d: &ReportData, out: &Path) -> Result<()> {
     put("empirical_c0_runs.csv", &store::rows_csv(&bisection))?;
     put("verdicts.json", &serde_json::to_string_pretty(&d.verdicts)?)?;
     put("index.html", &html::page(d, &figures))?;
+    set.commit()?;
     Ok(())
 }
 
