@@ -353,3 +353,209 @@ proptest! {
         }
     }
 }
+
+/// The files directly in `dir`, by name, with their bytes.
+fn folder(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let bytes = if e.file_type().unwrap().is_file() {
+                std::fs::read(e.path()).unwrap()
+            } else {
+                b"<folder>".to_vec()
+            };
+            (name, bytes)
+        })
+        .collect()
+}
+
+/// Item 5, `--force` atomic as a set: a disk that fills while a run's
+/// outputs are written over an earlier run's leaves the earlier set byte
+/// for byte, the user's own file in the folder, and nothing else (no
+/// staging folder, no temporary file); once there is room, the new set
+/// replaces the old one whole (the old particle series gone with
+/// `--no-particles`) and the user's file is still there. Needs a small
+/// tmpfs (root in a container that may mount); says so and returns
+/// otherwise.
+#[test]
+fn item5_force_over_an_earlier_run_is_atomic_as_a_set() {
+    let mnt = tempfile::tempdir().unwrap();
+    let ok = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=4m", "tmpfs"])
+        .arg(mnt.path())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !ok {
+        eprintln!("cannot mount a small tmpfs here (not root?): full-disk case not run");
+        return;
+    }
+    // Unmounted however the test ends.
+    struct Unmount<'a>(&'a std::path::Path);
+    impl Drop for Unmount<'_> {
+        fn drop(&mut self) {
+            let _ = Command::new("umount").arg(self.0).status();
+        }
+    }
+    let _unmount = Unmount(mnt.path());
+    let out = mnt.path().join("run");
+    let out_s = out.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run", "--quiet", "--n", "10", "--t-end", "0.5", "--out", out_s,
+        ];
+        args.extend_from_slice(extra);
+        shearsph(&args)
+    };
+    let first = run(&["--re", "10"]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let old = folder(&out);
+    for f in [
+        "summary.json",
+        "profile.svg",
+        "timeseries.csv",
+        "particles.pvd",
+    ] {
+        assert!(
+            old.contains_key(f),
+            "{f} missing from the first run: {old:?}"
+        );
+    }
+    let set_bytes: usize = old.values().map(Vec::len).sum();
+    std::fs::write(out.join("notes.txt"), "the user's own file").unwrap();
+
+    // Fill the disk, then free about half the set: room for part of it only.
+    let filler = mnt.path().join("filler");
+    {
+        use std::io::Write;
+        let mut f = std::fs::File::create(&filler).unwrap();
+        let chunk = vec![7u8; 64 * 1024];
+        while f.write_all(&chunk).is_ok() {}
+        let _ = f.flush();
+        let len = f.metadata().unwrap().len();
+        f.set_len(len.saturating_sub(set_bytes as u64 / 2)).unwrap();
+    }
+    let full = run(&["--re", "20", "--force"]);
+    let err = stderr(&full);
+    assert!(!full.status.success(), "a full disk is an error: {err}");
+    assert!(err.contains("No space left on device"), "{err}");
+    assert!(err.contains("keeps its earlier files"), "{err}");
+    let mut expected = old.clone();
+    expected.insert("notes.txt".into(), b"the user's own file".to_vec());
+    let after = folder(&out);
+    assert_eq!(
+        after.keys().collect::<Vec<_>>(),
+        expected.keys().collect::<Vec<_>>(),
+        "files added or lost"
+    );
+    assert!(after == expected, "a file of the earlier set changed");
+
+    // With room again: the new set, whole; the old series gone; notes kept.
+    std::fs::remove_file(&filler).unwrap();
+    let again = run(&["--re", "20", "--force", "--no-particles"]);
+    assert!(again.status.success(), "{}", stderr(&again));
+    let new = folder(&out);
+    assert_ne!(new["summary.json"], old["summary.json"]);
+    assert_eq!(new["notes.txt"], b"the user's own file");
+    assert!(
+        !new.keys()
+            .any(|f| f.starts_with("particles_") || f == "particles.pvd"),
+        "a stale file of the earlier set is left: {:?}",
+        new.keys()
+    );
+    assert!(
+        !new.keys()
+            .any(|f| f.contains("staging") || f.contains(".tmp")),
+        "{:?}",
+        new.keys()
+    );
+    let summary = String::from_utf8_lossy(&new["summary.json"]).into_owned();
+    assert!(summary.contains("\"re\": 20.0"), "{summary}");
+}
+
+/// Item 6: a results.jsonl row whose id is not a point of the grid is
+/// skipped when the sweep resumes, and when its folder is merged: not
+/// counted, not in the CSV, and the resume says so.
+#[test]
+fn item6_a_row_not_in_the_grid_is_skipped() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sw");
+    let dir_s = dir.to_str().unwrap();
+    let sweep = || {
+        shearsph(&[
+            "sweep",
+            "--quiet",
+            "--no-charts",
+            "--out",
+            dir_s,
+            "--kernel",
+            "monaghan",
+            "--n",
+            "10",
+            "--re",
+            "10",
+            "--alpha",
+            "0.1",
+            "--c0",
+            "rule10",
+            "--t-end",
+            "0.01",
+        ])
+    };
+    let first = sweep();
+    assert!(first.status.success(), "{}", stderr(&first));
+    let jsonl = dir.join("results.jsonl");
+    let text = std::fs::read_to_string(&jsonl).unwrap();
+    let mut row: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    let stray = "monaghan/n=77/re=10/alpha=0.1/c0=rule10";
+    row["id"] = stray.into();
+    row["n"] = 77.into();
+    std::fs::write(&jsonl, format!("{text}{row}\n")).unwrap();
+
+    let resumed = sweep();
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    let err = stderr(&resumed);
+    assert!(
+        err.contains("1 row(s) of")
+            && err.contains(
+                "have an id that is not a point of this sweep's grid: skipped \
+                             (not counted, not written to results.csv)"
+            ),
+        "{err}"
+    );
+    let said = String::from_utf8_lossy(&resumed.stdout).into_owned();
+    assert!(
+        said.contains("1 points in") && said.contains("ran 0 now, 1 were done before"),
+        "{said}"
+    );
+    let (ok, rest) = said.split_once("rows: ").unwrap();
+    let counts: usize = rest
+        .split(", ")
+        .filter_map(|c| c.split_whitespace().next()?.parse::<usize>().ok())
+        .sum();
+    assert_eq!(counts, 1, "{ok}{rest}");
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    assert!(!csv.contains("n=77"), "{csv}");
+
+    let merged = tmp.path().join("merged");
+    let m = shearsph(&[
+        "sweep",
+        "merge",
+        dir_s,
+        "--no-charts",
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(m.status.success(), "{}", stderr(&m));
+    assert!(
+        stderr(&m).contains("not a point of this sweep's grid: skipped"),
+        "{}",
+        stderr(&m)
+    );
+    let said = String::from_utf8_lossy(&m.stdout).into_owned();
+    assert!(said.contains("1 of 1 points finished"), "{said}");
+    let csv = std::fs::read_to_string(merged.join("results.csv")).unwrap();
+    assert!(!csv.contains("n=77"), "{csv}");
+}

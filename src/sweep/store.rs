@@ -242,19 +242,7 @@ pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSp
                     );
                 }
             }
-            let rows = read_rows(&dir.join(JSONL_FILE))?;
-            let ids: std::collections::BTreeSet<String> =
-                stored.points().iter().map(|p| p.id()).collect();
-            let total = rows.len();
-            let rows: Vec<Row> = rows.into_iter().filter(|r| ids.contains(&r.id)).collect();
-            if rows.len() < total {
-                eprintln!(
-                    "warning: {} row(s) of {} have an id that is not a point of this sweep's grid: \
-                     skipped (not counted, not written to {CSV_FILE})",
-                    total - rows.len(),
-                    dir.join(JSONL_FILE).display()
-                );
-            }
+            let rows = grid_rows(&stored, read_rows(&dir.join(JSONL_FILE))?, dir);
             Ok((stored, canonical(rows)))
         }
         (stored, spec) => {
@@ -277,6 +265,23 @@ pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSp
     }
 }
 
+/// The rows of `dir`'s results that are points of `spec`'s grid; any other
+/// is skipped, with a warning.
+fn grid_rows(spec: &SweepSpec, rows: Vec<Row>, dir: &Path) -> Vec<Row> {
+    let ids: std::collections::BTreeSet<String> = spec.points().iter().map(|p| p.id()).collect();
+    let total = rows.len();
+    let rows: Vec<Row> = rows.into_iter().filter(|r| ids.contains(&r.id)).collect();
+    if rows.len() < total {
+        eprintln!(
+            "warning: {} row(s) of {} have an id that is not a point of this sweep's grid: \
+             skipped (not counted, not written to {CSV_FILE})",
+            total - rows.len(),
+            dir.join(JSONL_FILE).display()
+        );
+    }
+    rows
+}
+
 /// Combine the rows of shard folders of one sweep into `out`: every folder
 /// must hold the same `sweep.toml`; a point finished in several keeps its
 /// first row. Returns the sweep and the merged rows, in grid order.
@@ -297,7 +302,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Ve
                 first.display()
             );
         }
-        rows.extend(read_rows(&dir.join(JSONL_FILE))?);
+        rows.extend(grid_rows(&spec, read_rows(&dir.join(JSONL_FILE))?, dir));
     }
     let rows = canonical(rows);
     prepare_dir(out, force)?;
