@@ -89,7 +89,13 @@ pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
     let h = scene.h_over_d * scene.d;
     // Refused before the search, with the estimate: a count the memory
     // bound (or the lattice's u32 counts) cannot hold.
-    let neighbours = crate::problem::cost::listed_neighbours(scene.d, h, info.support, scene.skin);
+    let neighbours = crate::problem::cost::listed_neighbours(
+        scene.lattice,
+        scene.d,
+        h,
+        info.support,
+        scene.skin,
+    );
     let bytes = crate::problem::cost::memory_bytes(target as f64, neighbours, 0.0, 0.0);
     let max = crate::problem::cost::MAX_RUN_BYTES;
     if !(bytes <= max && (target as f64) <= crate::problem::cost::MAX_PARTICLES) {

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::channel::Channel;
 use crate::config::{invalid, SceneError};
 use crate::format::fmt_value;
+use crate::kernel::Lattice as Kind;
 
 /// Seconds per pair evaluation assumed by the run-time estimate: the
 /// solver's measured cost (about 8 ns per listed pair and pass for the cubic
@@ -107,7 +108,8 @@ impl Estimate {
     pub fn seconds(&self, channel: &Channel, support: f64) -> f64 {
         let lattice = &channel.lattice;
         let particles = lattice.n_particles() as f64;
-        let neighbours = listed_neighbours(lattice.d, lattice.h, support, ESTIMATE_SKIN);
+        let neighbours =
+            listed_neighbours(lattice.kind, lattice.d, lattice.h, support, ESTIMATE_SKIN);
         self.steps * particles * neighbours * 2.0 * EST_S_PER_PAIR_PASS
     }
 }
@@ -117,12 +119,40 @@ impl Estimate {
 /// scene's own).
 const ESTIMATE_SKIN: f64 = 0.3;
 
-/// Neighbours listed per particle at spacing `d`: every lattice site within
-/// (R + skin) h, the list's reach (it grows as (h / d)^2).
-pub fn listed_neighbours(d: f64, h: f64, support: f64, skin: f64) -> f64 {
-    // As (h / d)^2, so a huge or tiny d cannot overflow the squares.
-    std::f64::consts::PI * ((support + skin) * (h / d)).powi(2) / (0.5 * 3f64.sqrt())
+/// Neighbours listed per particle on a lattice of kind `kind` at spacing
+/// `d`: the other lattice sites within (R + skin) h, the list's reach (as
+/// the solver lists them: itself excluded, closed). Counted site by site up
+/// to a reach of [`COUNTED_REACH`] d (the area's pi r^2 / (dy d) misses the
+/// count by 10 % at h = 2 d), the area's estimate beyond (where it is within
+/// a few d / r); it grows as (h / d)^2.
+pub fn listed_neighbours(kind: Kind, d: f64, h: f64, support: f64, skin: f64) -> f64 {
+    // In units of d, so a huge or tiny d cannot overflow the squares.
+    let reach = (support + skin) * (h / d);
+    let dy = kind.dy(1.0);
+    if !(reach <= COUNTED_REACH) {
+        return std::f64::consts::PI * reach.powi(2) / dy;
+    }
+    let reach2 = reach * reach * (1.0 + super::lattice::CLOSED_TOL);
+    let rows = (reach / dy).floor() as i32;
+    let mut count = 0u32;
+    for n in -rows..=rows {
+        let y = f64::from(n) * dy;
+        let offset = kind.offset(n);
+        // Columns c with |c + offset| <= reach.
+        let c_max = (reach + 1.0).ceil() as i32;
+        for c in -c_max..=c_max {
+            let x = f64::from(c) + offset;
+            if x * x + y * y <= reach2 {
+                count += 1;
+            }
+        }
+    }
+    f64::from(count - 1)
 }
+
+/// The largest reach, in d, at which [`listed_neighbours`] counts sites
+/// (about 13,000 of them) rather than dividing areas.
+pub const COUNTED_REACH: f64 = 64.0;
 
 /// Memory a run may take before it is refused: 2 GiB, so that a sweep's
 /// parallel runs fit this project's 24 GiB machines and a laptop.
@@ -169,13 +199,19 @@ pub fn human_bytes(b: f64) -> String {
 
 /// Refuse a lattice of more than [`MAX_PARTICLES`] particles before it is
 /// built (the counts would overflow, the memory could not be had).
-pub fn check_size(n_layers: u32, d: f64, h: f64, support: f64) -> Result<(), SceneError> {
+pub fn check_size(
+    kind: Kind,
+    n_layers: u32,
+    d: f64,
+    h: f64,
+    support: f64,
+) -> Result<(), SceneError> {
     let reach = support * h * (1.0 + super::lattice::CLOSED_TOL);
-    let dy = 0.5 * 3f64.sqrt() * d;
+    let dy = kind.dy(d);
     let columns = (2.0 * reach / d).floor() + 1.0;
     let walls = (reach / dy).floor();
     let particles = (2.0 * f64::from(n_layers) - 1.0 + 2.0 * walls) * columns;
-    let neighbours = listed_neighbours(d, h, support, ESTIMATE_SKIN);
+    let neighbours = listed_neighbours(kind, d, h, support, ESTIMATE_SKIN);
     let bytes = memory_bytes(particles, neighbours, 0.0, 0.0);
     if !(particles <= MAX_PARTICLES && bytes <= MAX_RUN_BYTES) {
         let field = if h / d > 100.0 {
@@ -213,7 +249,7 @@ pub fn check_memory(
     let samples = (t_end / output_interval).ceil() + 2.0;
     let layers = f64::from(lattice.fluid_layers()) + 2.0 * f64::from(lattice.wall_layers);
     let particles = lattice.n_particles() as f64;
-    let neighbours = listed_neighbours(lattice.d, lattice.h, support, skin);
+    let neighbours = listed_neighbours(lattice.kind, lattice.d, lattice.h, support, skin);
     let bytes = memory_bytes(particles, neighbours, samples, layers);
     if bytes.is_nan() || bytes > MAX_RUN_BYTES {
         let kept = samples * bytes_per_sample(layers);
@@ -284,5 +320,56 @@ fn human_seconds(s: f64) -> String {
         format!("{:.1} days", s / 86400.0)
     } else {
         format!("{:.2e} days", s / 86400.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lattice sites (offset rows on the triangular lattice) within `reach`
+    /// of a site, itself excluded, by brute force over a box.
+    fn sites_within(kind: Kind, d: f64, reach: f64) -> f64 {
+        let dy = kind.dy(d);
+        let rows = (reach / dy).ceil() as i32 + 1;
+        let cols = (reach / d).ceil() as i32 + 1;
+        let mut count = 0u32;
+        for n in -rows..=rows {
+            for c in -cols..=cols {
+                let x = (f64::from(c) + kind.offset(n)) * d;
+                let y = f64::from(n) * dy;
+                if x * x + y * y <= reach * reach * (1.0 + 1e-9) && (n, c) != (0, 0) {
+                    count += 1;
+                }
+            }
+        }
+        f64::from(count)
+    }
+
+    #[test]
+    fn listed_neighbours_are_the_count_on_either_lattice() {
+        let (d, support, skin) = (0.7, 2.0, 0.3);
+        for kind in [Kind::Triangular, Kind::Square] {
+            for h_over_d in [1.0, 13.0 / 10.0, 2.0, 4.0] {
+                let h = h_over_d * d;
+                let listed = listed_neighbours(kind, d, h, support, skin);
+                let count = sites_within(kind, d, (support + skin) * h);
+                assert_eq!(listed, count, "{kind:?} h/d = {h_over_d}");
+            }
+        }
+        // By hand, reach 2.3 d (h = d, R = 2, skin 0.3): the triangular
+        // lattice's shells at d, sqrt(3) d, 2 d hold 6 each; the square's at
+        // d, sqrt(2) d, 2 d hold 4 each and sqrt(5) d holds 8.
+        assert_eq!(
+            listed_neighbours(Kind::Triangular, 1.0, 1.0, 2.0, 0.3),
+            18.0
+        );
+        assert_eq!(listed_neighbours(Kind::Square, 1.0, 1.0, 2.0, 0.3), 20.0);
+        // Beyond the counted reach: the area's estimate, one per dy d.
+        let far = listed_neighbours(Kind::Square, 1.0, 100.0, 2.0, 0.3);
+        let area = std::f64::consts::PI * 230f64.powi(2);
+        assert!((far / area - 1.0).abs() < 1e-12);
+        let tri = listed_neighbours(Kind::Triangular, 1.0, 100.0, 2.0, 0.3);
+        assert!((tri * 3f64.sqrt() / 2.0 / area - 1.0).abs() < 1e-12);
     }
 }
