@@ -141,6 +141,31 @@ fn item5_output_folder_is_probed_and_sigterm_keeps_outputs() {
     assert!(summary.contains("\"interrupted\""), "{summary}");
 }
 
+/// `sweep` of a one-point grid (a short scene) into `out`, with `extra`.
+fn one_point_sweep(out: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "sweep",
+        "--quiet",
+        "--no-charts",
+        "--out",
+        out,
+        "--kernel",
+        "monaghan",
+        "--n",
+        "10",
+        "--re",
+        "10",
+        "--alpha",
+        "0.1",
+        "--c0",
+        "rule10",
+        "--t-end",
+        "0.01",
+    ];
+    args.extend_from_slice(extra);
+    shearsph(&args)
+}
+
 #[test]
 fn item6_sweep_lock_and_grid_values() {
     let tmp = tempfile::tempdir().unwrap();
@@ -168,27 +193,7 @@ fn item6_sweep_lock_and_grid_values() {
         assert!(e.contains(says), "{flags:?}: {e}");
         assert!(!e.contains("unexpected argument"), "{e}");
     }
-    let o = shearsph(&[
-        "sweep",
-        "--quiet",
-        "--no-charts",
-        "--out",
-        out,
-        "--kernel",
-        "monaghan",
-        "--n",
-        "10",
-        "--re",
-        "10",
-        "--alpha",
-        "0.1",
-        "--c0",
-        "rule10",
-        "--t-end",
-        "0.01",
-        "--shard",
-        "99/100",
-    ]);
+    let o = one_point_sweep(out, &["--shard", "99/100"]);
     assert!(
         stderr(&o).contains("shard 99/100 gets no point of the 1-point grid"),
         "{}",
@@ -482,27 +487,7 @@ fn item6_a_row_not_in_the_grid_is_skipped() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("sw");
     let dir_s = dir.to_str().unwrap();
-    let sweep = || {
-        shearsph(&[
-            "sweep",
-            "--quiet",
-            "--no-charts",
-            "--out",
-            dir_s,
-            "--kernel",
-            "monaghan",
-            "--n",
-            "10",
-            "--re",
-            "10",
-            "--alpha",
-            "0.1",
-            "--c0",
-            "rule10",
-            "--t-end",
-            "0.01",
-        ])
-    };
+    let sweep = || one_point_sweep(dir_s, &[]);
     let first = sweep();
     assert!(first.status.success(), "{}", stderr(&first));
     let jsonl = dir.join("results.jsonl");

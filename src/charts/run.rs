@@ -2,6 +2,8 @@
 //! time series of the error and the compaction.
 
 use anyhow::Result;
+use plotters::coord::ranged1d::AsRangedCoord;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -131,12 +133,28 @@ fn finite(v: f64) -> Option<f64> {
     }
 }
 
+/// A panel's chart: time across, `y` up.
+fn panel_chart<'a, 'b, Y: AsRangedCoord<Value = f64>>(
+    area: &'a Panel<'b>,
+    caption: &str,
+    t_max: f64,
+    y: Y,
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, Y::CoordDescType>>> {
+    ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, y)
+        .map_err(chart_err)
+}
+
 /// A line's points, its legend entry and its colour.
 type Line<'n> = (Vec<(f64, f64)>, &'n str, RGBColor);
 
 /// Lines with a legend entry each, and the legend.
-fn labelled_lines<'a, CT: CoordTranslate<From = (f64, f64)>>(
-    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+fn labelled_lines<'a, 'b: 'a, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     lines: [Line; 2],
 ) -> Result<()> {
     for (pts, name, color) in lines {
@@ -178,13 +196,7 @@ fn error_panel(area: &Panel, s: &[Sample], t_max: f64) -> Result<()> {
         (1e-6, 1.0)
     };
     let (y_coord, y_axis) = LogAxis::new(lo, hi, 8);
-    let mut chart = ChartBuilder::on(area)
-        .caption("velocity error / U (layer means)", ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_max, y_coord)
-        .map_err(chart_err)?;
+    let mut chart = panel_chart(area, "velocity error / U (layer means)", t_max, y_coord)?;
     chart
         .configure_mesh()
         .x_desc("t")
@@ -211,13 +223,7 @@ fn eps_panel(area: &Panel, s: &[Sample], t_max: f64) -> Result<()> {
     } else {
         (-1.0, 1.0)
     };
-    let mut chart = ChartBuilder::on(area)
-        .caption("compaction eps = rho/rho0 - 1 (fluid)", ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_max, lo..hi)
-        .map_err(chart_err)?;
+    let mut chart = panel_chart(area, "compaction eps = rho/rho0 - 1 (fluid)", t_max, lo..hi)?;
     chart
         .configure_mesh()
         .x_desc("t")
@@ -235,13 +241,7 @@ fn pulsation_panel(area: &Panel, s: &[Sample], t_max: f64, u: f64) -> Result<()>
         .filter_map(|x| Some((x.t, finite(x.rms_v / u)?)))
         .collect();
     let hi = v.iter().map(|p| p.1).fold(0.0f64, f64::max).max(1e-12) * 1.1;
-    let mut chart = ChartBuilder::on(area)
-        .caption("RMS transverse velocity / U", ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_max, 0.0..hi)
-        .map_err(chart_err)?;
+    let mut chart = panel_chart(area, "RMS transverse velocity / U", t_max, 0.0..hi)?;
     chart
         .configure_mesh()
         .x_desc("t")
