@@ -129,7 +129,8 @@ pub fn listed_neighbours(kind: Kind, d: f64, h: f64, support: f64, skin: f64) ->
     // In units of d, so a huge or tiny d cannot overflow the squares.
     let reach = (support + skin) * (h / d);
     let dy = kind.dy(1.0);
-    if !(reach <= COUNTED_REACH) {
+    // Far (or NaN, from a non-finite input): the area's estimate.
+    if reach.is_nan() || reach > COUNTED_REACH {
         return std::f64::consts::PI * reach.powi(2) / dy;
     }
     let reach2 = reach * reach * (1.0 + super::lattice::CLOSED_TOL);
