@@ -107,6 +107,34 @@ fn item3_memory_and_size_are_estimated_before_running() {
     let p = Problem::resolve(&scene, scene.kernel_info().unwrap()).unwrap();
     assert!(p.t_end / p.output_interval < 1e6);
     assert!(cost::MAX_RUN_BYTES <= 4.0 * 1024f64.powi(3));
+    // The run-time guard counts the scene's skin (the cost follows it): a
+    // bound between the estimates at skin 0.3 h and 1.5 h passes the first
+    // and refuses the second, naming the neighbours it counted.
+    let estimate = |skin: f64| {
+        let scene = Scene {
+            skin,
+            ..Scene::builtin()
+        };
+        let info = scene.kernel_info().unwrap();
+        let p = Problem::resolve(&scene, info).unwrap();
+        cost::Estimate::new(&p.channel(), p.c0, p.t_end).seconds(&p.channel(), info.support, skin)
+    };
+    let (thin, thick) = (estimate(0.3), estimate(1.5));
+    assert!(thick > 2.0 * thin, "{thin} s at skin 0.3, {thick} s at 1.5");
+    let bound = (thin * thick).sqrt();
+    let err = resolve_err(|s| {
+        s.skin = 1.5;
+        s.max_run_s = bound;
+    });
+    assert!(
+        err.contains("`max_run_s`") && err.contains("neighbours each"),
+        "{err}"
+    );
+    let scene = Scene {
+        max_run_s: bound,
+        ..Scene::builtin()
+    };
+    assert!(Problem::resolve(&scene, scene.kernel_info().unwrap()).is_ok());
 }
 
 #[test]
@@ -343,7 +371,7 @@ proptest! {
                 }
                 let est = cost::Estimate::new(&p.channel(), p.c0, p.t_end);
                 prop_assert!(est.time_step.dt > 0.0 && est.steps.is_finite());
-                prop_assert!(est.seconds(&p.channel(), info.support) <= scene.max_run_s);
+                prop_assert!(est.seconds(&p.channel(), info.support, scene.skin) <= scene.max_run_s);
                 prop_assert!(p.t_end / p.output_interval < 1e8);
                 prop_assert!((p.lattice.n_particles() as f64) <= cost::MAX_PARTICLES);
             }

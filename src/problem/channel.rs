@@ -41,7 +41,7 @@ impl Channel {
         }
         positive("d", d)?;
         positive("h_over_d", scene.h_over_d)?;
-        super::cost::check_size(scene.lattice, scene.n_layers, d, h, support)?;
+        super::cost::check_size(scene.lattice, scene.n_layers, d, h, support, scene.skin)?;
         let lattice = Lattice::new(scene.lattice, scene.n_layers, d, h, support);
         // The centre line's support must not reach the wall (closed support).
         let n_min = (support * h * (1.0 + CLOSED_TOL) / lattice.dy).floor() as u32 + 1;

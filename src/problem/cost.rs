@@ -12,7 +12,13 @@ use crate::kernel::Lattice as Kind;
 
 /// Seconds per pair evaluation assumed by the run-time estimate: the
 /// solver's measured cost (about 8 ns per listed pair and pass for the cubic
-/// spline, both passes) rounded up, so the estimate errs long.
+/// spline, both passes) rounded up, so the estimate errs long. Measured
+/// again (one thread, CPU time, Monaghan, Wendland C2 and the composite
+/// kernel, c0 = 10 U, N = 30 to 300): 2.5 to 5.3 ns per listed pair and
+/// pass, the per-particle work included, on either lattice at h / d = 1,
+/// 13/10, 17/10, 2 and 4; the estimate was 2.3 to 4.2 times the time taken,
+/// never short (the most at h >= 2 d, where more pairs share each
+/// particle's fixed work).
 pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 
 /// The time-step limit that bound a step.
@@ -103,21 +109,22 @@ impl Estimate {
         channel.lattice.n_particles() as f64 * self.steps
     }
 
-    /// Estimated wall time on one core: steps x particles x neighbours x two
-    /// passes at [`EST_S_PER_PAIR_PASS`].
-    pub fn seconds(&self, channel: &Channel, support: f64) -> f64 {
-        let lattice = &channel.lattice;
-        let particles = lattice.n_particles() as f64;
-        let neighbours =
-            listed_neighbours(lattice.kind, lattice.d, lattice.h, support, ESTIMATE_SKIN);
+    /// Estimated wall time on one core: steps x particles x neighbours
+    /// listed (within (R + `skin`) h: the scene's skin, which the cost
+    /// follows, 2.2 times the time at skin 0.9 h as at 0.3 h for h = 4 d)
+    /// x two passes at [`EST_S_PER_PAIR_PASS`].
+    pub fn seconds(&self, channel: &Channel, support: f64, skin: f64) -> f64 {
+        let particles = channel.lattice.n_particles() as f64;
+        let neighbours = self.neighbours(channel, support, skin);
         self.steps * particles * neighbours * 2.0 * EST_S_PER_PAIR_PASS
     }
-}
 
-/// The skin the run-time estimate and the size check assume: the scene
-/// default's 0.3 h (a channel carries no skin; the memory check passes the
-/// scene's own).
-const ESTIMATE_SKIN: f64 = 0.3;
+    /// The neighbours listed per particle that [`Estimate::seconds`] counts.
+    pub fn neighbours(&self, channel: &Channel, support: f64, skin: f64) -> f64 {
+        let lattice = &channel.lattice;
+        listed_neighbours(lattice.kind, lattice.d, lattice.h, support, skin)
+    }
+}
 
 /// Neighbours listed per particle on a lattice of kind `kind` at spacing
 /// `d`: the other lattice sites within (R + skin) h, the list's reach (as
@@ -206,13 +213,14 @@ pub fn check_size(
     d: f64,
     h: f64,
     support: f64,
+    skin: f64,
 ) -> Result<(), SceneError> {
     let reach = support * h * (1.0 + super::lattice::CLOSED_TOL);
     let dy = kind.dy(d);
     let columns = (2.0 * reach / d).floor() + 1.0;
     let walls = (reach / dy).floor();
     let particles = (2.0 * f64::from(n_layers) - 1.0 + 2.0 * walls) * columns;
-    let neighbours = listed_neighbours(kind, d, h, support, ESTIMATE_SKIN);
+    let neighbours = listed_neighbours(kind, d, h, support, skin);
     let bytes = memory_bytes(particles, neighbours, 0.0, 0.0);
     if !(particles <= MAX_PARTICLES && bytes <= MAX_RUN_BYTES) {
         let field = if h / d > 100.0 {
@@ -283,12 +291,13 @@ pub fn check_memory(
 pub fn check_run_time(
     channel: &Channel,
     support: f64,
+    skin: f64,
     c0: f64,
     t_end: f64,
     max_run_s: f64,
 ) -> Result<(), SceneError> {
     let est = Estimate::new(channel, c0, t_end);
-    let est_s = est.seconds(channel, support);
+    let est_s = est.seconds(channel, support, skin);
     // A NaN estimate (from an infinite step count) is refused too.
     if est_s.is_nan() || est_s > max_run_s {
         let particles = channel.lattice.n_particles() as f64;
@@ -296,12 +305,13 @@ pub fn check_run_time(
             "max_run_s",
             format!(
                 "the run would take about {} on one core ({:.3e} steps of dt = {:.3e}, bound by the {} limit, \
-                 x {particles} particles), over the bound max_run_s = {} s; raise it (--max-run-s), \
-                 or shorten t_end, or lower c0 (CFL) / raise Re (viscous)",
+                 x {particles} particles with {} neighbours each), over the bound max_run_s = {} s; raise it \
+                 (--max-run-s), or shorten t_end, or lower c0 (CFL) / raise Re (viscous)",
                 human_seconds(est_s),
                 est.steps,
                 est.time_step.dt,
                 est.time_step.limit.name(),
+                fmt_value(est.neighbours(channel, support, skin)),
                 fmt_value(max_run_s)
             ),
         ));

@@ -104,7 +104,14 @@ impl Problem {
         let step_in = with(&dt_in, &[("t_end", t_end)]);
         derived("the step count t_end / dt", est.steps, &step_in)?;
         positive("max_run_s", scene.max_run_s)?;
-        cost::check_run_time(&channel, info.support, c0, t_end, scene.max_run_s)?;
+        cost::check_run_time(
+            &channel,
+            info.support,
+            scene.skin,
+            c0,
+            t_end,
+            scene.max_run_s,
+        )?;
         let output_interval = match scene.output_interval {
             Some(dt) => {
                 positive("output_interval", dt)?;
