@@ -95,7 +95,11 @@ impl Lattice {
                     continue;
                 }
                 w_sum += K::w(q2) * inv_h2;
-                lyy -= y * y * K::dw_over_q(q2) * inv_h2 * inv_h2;
+                if j != 0 {
+                    // The own row has y = 0 (and W' / r of the self site
+                    // may be infinite: (22b) is not 0 at q = 0).
+                    lyy -= y * y * K::dw_over_q(q2) * inv_h2 * inv_h2;
+                }
             }
         }
         let area = self.area();
