@@ -69,7 +69,7 @@ impl Lattice {
     /// K: what the solver's Laplacian, 2 (nu / sigma) sum_j (A / sigma)
     /// (u_i - u_j) F(r_ij) with F = W'(r) / r, gives for u = y^2 / 2 at a
     /// particle of the perfect, unbounded lattice, where the continuum gives
-    /// 1. sigma = A sum_j W(r_j) (self included) is the summation density
+    /// one. sigma = A sum_j W(r_j) (self included) is the summation density
     /// over rho0, 1 + eps(0), so m / rho = A / sigma; L_yy = -A sum_j
     /// y_j^2 F(r_j) over the other sites, A = d dy; every site within the
     /// closed support counts, as in the solver's neighbour lists. A
