@@ -353,8 +353,9 @@ pub enum ViscousNormalisation {
     /// W'(r_j) / r_j (A = d dy) and the volumes m / rho of its summation
     /// density rho0 (1 + eps(0)). Computed from the kernel and the
     /// discretisation, not fitted: with h = 13/10 d on the square lattice
-    /// Wendland C2 has lambda = 0.9538, so without it the fluid is 4.8 %
-    /// less viscous than asked (bench/peers/ACCURACY.md).
+    /// Wendland C2 has lambda = 0.9538, so without it the fluid is 4.6 %
+    /// less viscous than asked and its steady profile 4.8 % too fast
+    /// (bench/peers/ACCURACY.md).
     Lattice,
 }
 
