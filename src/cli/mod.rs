@@ -97,6 +97,10 @@ pub struct SceneArgs {
     /// `mirrored` (Morris, Fox and Zhu 1997 no-slip).
     #[arg(long)]
     pub wall_velocity: Option<String>,
+    /// Viscous term: `none` (the Laplacian (14)) or `lattice` (divided by
+    /// its sum on the perfect lattice, exact for a quadratic velocity there).
+    #[arg(long)]
+    pub viscous_normalisation: Option<String>,
     /// Fail the run when the compaction exceeds this.
     #[arg(long)]
     pub eps_limit: Option<f64>,
@@ -159,6 +163,10 @@ impl SceneArgs {
         put(
             "wall_velocity",
             self.wall_velocity.clone().map(Value::String),
+        );
+        put(
+            "viscous_normalisation",
+            self.viscous_normalisation.clone().map(Value::String),
         );
         put("eps_limit", self.eps_limit.map(Value::Float));
         put("jitter", self.jitter.map(Value::Float));

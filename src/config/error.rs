@@ -47,6 +47,7 @@ fn flag_of(field: &'static str) -> &'static str {
         "allow_negative_pressure" => "allow-negative-pressure",
         "pressure_form" => "pressure-form",
         "wall_velocity" => "wall-velocity",
+        "viscous_normalisation" => "viscous-normalisation",
         "eps_limit" => "eps-limit",
         "max_run_s" => "max-run-s",
         "jitter_seed" => "jitter-seed",

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::kernel::Lattice as Kind;
+use crate::kernel::{Kernel, Lattice as Kind};
 
 /// Relative tolerance for "a lattice distance equals the support", the same
 /// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
@@ -63,6 +63,48 @@ impl Lattice {
     /// triangular lattice, d^2 rho0 on the square one).
     pub fn area(&self) -> f64 {
         self.dy * self.d
+    }
+
+    /// The viscous operator's lattice sum lambda = L_yy / sigma^2 for kernel
+    /// K: what the solver's Laplacian, 2 (nu / sigma) sum_j (A / sigma)
+    /// (u_i - u_j) F(r_ij) with F = W'(r) / r, gives for u = y^2 / 2 at a
+    /// particle of the perfect, unbounded lattice, where the continuum gives
+    /// one. sigma = A sum_j W(r_j) (self included) is the summation density
+    /// over rho0, 1 + eps(0), so m / rho = A / sigma; L_yy = -A sum_j
+    /// y_j^2 F(r_j) over the other sites, A = d dy; every site within the
+    /// closed support counts, as in the solver's neighbour lists. A
+    /// quadratic velocity is the steady profile (7), so the interior of a
+    /// steady run has the viscosity lambda nu (`ViscousNormalisation`).
+    pub fn viscous_lattice_sum<K: Kernel>(&self) -> f64 {
+        let (d, h, dy) = (self.d, self.h, self.dy);
+        let reach = K::SUPPORT2_CLOSED.sqrt() * h;
+        let rows = (reach / dy).ceil() as i64;
+        let cols = (reach / d).ceil() as i64 + 1;
+        let inv_h2 = 1.0 / (h * h);
+        let (mut w_sum, mut lyy) = (0.0, 0.0);
+        for j in -rows..=rows {
+            let shift = match self.kind {
+                Kind::Triangular if j % 2 != 0 => 0.5 * d,
+                _ => 0.0,
+            };
+            let y = j as f64 * dy;
+            for i in -cols..=cols {
+                let x = i as f64 * d + shift;
+                let q2 = (x * x + y * y) * inv_h2;
+                if q2 > K::SUPPORT2_CLOSED {
+                    continue;
+                }
+                w_sum += K::w(q2) * inv_h2;
+                if j != 0 {
+                    // The own row has y = 0 (and W' / r of the self site
+                    // may be infinite: (22b) is not 0 at q = 0).
+                    lyy -= y * y * K::dw_over_q(q2) * inv_h2 * inv_h2;
+                }
+            }
+        }
+        let area = self.area();
+        let sigma = area * w_sum;
+        area * lyy / (sigma * sigma)
     }
 
     pub fn fluid_layers(&self) -> u32 {

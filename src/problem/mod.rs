@@ -17,9 +17,10 @@ use crate::analytic::Poiseuille;
 use crate::config::{invalid, positive, C0Spec, Scene};
 /// The configuration's value types a problem carries, for the solver, which
 /// reads the problem only.
-pub use crate::config::{Initial, PressureForm, SceneError, WallVelocity};
+pub use crate::config::{Initial, PressureForm, SceneError, ViscousNormalisation, WallVelocity};
 use crate::format::fmt_value;
-use crate::kernel::{DiscretisationInfo, KernelInfo};
+use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
+use crate::kernels;
 use channel::Channel;
 use lattice::Lattice;
 
@@ -54,6 +55,10 @@ pub struct Problem {
     pub allow_negative_pressure: bool,
     pub pressure_form: PressureForm,
     pub wall_velocity: WallVelocity,
+    pub viscous_normalisation: ViscousNormalisation,
+    /// The factor on the viscous term: 1 (`none`), or 1 / lambda of
+    /// [`Lattice::viscous_lattice_sum`] (`lattice`).
+    pub viscous_scale: f64,
     /// Random initial displacement of the fluid, in d.
     pub jitter: f64,
     /// Neighbour-list skin in h.
@@ -153,6 +158,26 @@ impl Problem {
             v_limit,
             &[("u", scene.u), ("c0", c0)],
         )?;
+        let viscous_scale = match scene.viscous_normalisation {
+            ViscousNormalisation::None => 1.0,
+            ViscousNormalisation::Lattice => {
+                let lambda = viscous_lattice_sum(info, &lattice);
+                if !(lambda > 0.0 && lambda.is_normal()) {
+                    // E.g. a kernel whose gradient vanishes at every
+                    // neighbour: the lattice has no viscous term to scale.
+                    return Err(invalid(
+                        "viscous_normalisation",
+                        format!(
+                            "kernel {} on the {} has a viscous lattice sum of {lambda}, not a \
+                             positive number to divide by: use none",
+                            info.name,
+                            discretisation.label()
+                        ),
+                    ));
+                }
+                1.0 / lambda
+            }
+        };
         Ok(Problem {
             scene: scene.clone(),
             kernel: info,
@@ -170,6 +195,8 @@ impl Problem {
             allow_negative_pressure: scene.allow_negative_pressure,
             pressure_form: scene.pressure_form,
             wall_velocity: scene.wall_velocity,
+            viscous_normalisation: scene.viscous_normalisation,
+            viscous_scale,
             jitter: scene.jitter,
             skin: scene.skin,
             eps_limit: scene.eps_limit,
@@ -225,6 +252,18 @@ impl Problem {
     pub fn mirrored_walls(&self) -> bool {
         self.wall_velocity == WallVelocity::Mirrored
     }
+}
+
+/// [`Lattice::viscous_lattice_sum`] for the kernel `info` names.
+fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &Lattice) -> f64 {
+    struct Sum<'a>(&'a Lattice);
+    impl KernelVisitor for Sum<'_> {
+        type Output = f64;
+        fn visit<K: Kernel>(self) -> f64 {
+            self.0.viscous_lattice_sum::<K>()
+        }
+    }
+    kernels::with_kernel(info.name, Sum(lattice)).unwrap_or(f64::NAN)
 }
 
 /// `a` and then `b`: the inputs of a quantity derived from others.

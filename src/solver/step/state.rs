@@ -171,7 +171,8 @@ pub(crate) struct Params {
     /// Whether (31) acts at all: [`Problem::has_artificial_viscosity`], the
     /// same test the flop count makes.
     pub has_av: bool,
-    /// 2 mu (the Laplacian (14) with the right sign).
+    /// 2 mu (the Laplacian (14) with the right sign), times
+    /// [`Problem::viscous_scale`] (1 unless normalised by the lattice).
     pub visc: f64,
     /// Body force along +x.
     pub body: f64,
@@ -204,7 +205,7 @@ impl Params {
             grad_scale: 1.0 / (h * h * h * h),
             av: problem.alpha * problem.c0 * h * problem.mass,
             has_av: problem.has_artificial_viscosity(),
-            visc: 2.0 * problem.mu,
+            visc: 2.0 * problem.mu * problem.viscous_scale,
             body: problem.flow.p,
             mirror_walls: problem.mirrored_walls(),
             b: problem.lattice.b(),
