@@ -180,4 +180,3 @@ pub fn gradient_moment(dw: &Radial) -> Exact {
     }
     &acc * &Exact::pi_pow(1)
 }
-

@@ -218,4 +218,3 @@ pub fn check_emitted_names(
     }
     Ok(())
 }
-

@@ -289,7 +289,6 @@ fn field_from_toml_error(msg: &str) -> String {
     "(file)".into()
 }
 
-
 /// Reads every `*.toml` in a folder, sorted by file name; a duplicate
 /// kernel name is an error naming both files.
 pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
@@ -348,7 +347,6 @@ pub fn load_dir(dir: &Path) -> Result<Vec<KernelDef>, KernelError> {
     Ok(out)
 }
 
-
 /// Reads a kernel file, with an error of its own for each way that fails:
 /// missing, a folder, no permission, not UTF-8 (with the byte offset and
 /// line), anything else with the system's words.
@@ -396,4 +394,3 @@ pub fn read_kernel_file(f: &Path) -> Result<String, KernelError> {
         }
     })
 }
-
