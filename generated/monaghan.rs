@@ -2,8 +2,8 @@
 // Source: kernels/monaghan.toml
 
 use crate::kernel::{
-    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
-    EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps, StencilPoint,
+    eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
+    EpsLattice, EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
 };
 /// Monaghan cubic spline (R = 2).
 ///
@@ -14,7 +14,6 @@ use crate::kernel::{
 pub struct Monaghan;
 impl Kernel for Monaghan {
     const NAME: &'static str = "monaghan";
-    const SUPPORT: f64 = 2.0;
     const SUPPORT2_CLOSED: f64 = 4.000000004;
     const INFO: &'static KernelInfo = &INFO;
     /// W(q), q^2 = `q2`, units h^-2. Pieces (exact):
@@ -33,62 +32,9 @@ impl Kernel for Monaghan {
             0.0
         }
     }
-    /// dW/dq (derivative of W), units h^-3. Pieces (exact):
+    /// (W, (dW/dq)/q) of a pair, units h^-2 and h^-4, as the solver's pair loops take it. dW/dq (derivative of W), pieces (exact):
     /// - (0, 1]: (-30/(7*pi))*q + (45/(14*pi))*q^2
     /// - (1, 2]: (-30/(7*pi)) + (30/(7*pi))*q + (-15/(14*pi))*q^2
-    #[inline(always)]
-    fn dw(q2: f64) -> f64 {
-        if q2 <= 1.0 {
-            q2.sqrt()
-                * {
-                    let s = q2.sqrt() - 1.0;
-                    1.02313891987647 * s + -0.34104630662549
-                }
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let s = (q2 - 4.0) / (q2.sqrt() + 2.0);
-            -0.34104630662549 * s * s
-        } else {
-            0.0
-        }
-    }
-    /// (dW/dq)/q, units h^-4.
-    #[inline(always)]
-    fn dw_over_q(q2: f64) -> f64 {
-        if q2 <= 1.0 {
-            let s = q2.sqrt() - 1.0;
-            1.02313891987647 * s + -0.34104630662549
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let q = q2.sqrt();
-            let qb = q + 2.0;
-            let t = 1.0 / (q * qb);
-            let s = (q2 - 4.0) * q * t;
-            (-0.34104630662549 * s * s) * qb * t
-        } else {
-            0.0
-        }
-    }
-    /// (W, (dW/dq)/q) together: one branch, square root and shifted variable for both.
-    #[inline(always)]
-    fn w_dw_over_q(q2: f64) -> (f64, f64) {
-        if q2 <= 1.0 {
-            let q = q2.sqrt();
-            let s = q - 1.0;
-            (
-                ((0.34104630662549 * s + 0.34104630662549) * s + -0.34104630662549) * s
-                    + 0.11368210220849667,
-                1.02313891987647 * s + -0.34104630662549,
-            )
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let q = q2.sqrt();
-            let qb = q + 2.0;
-            let t = 1.0 / (q * qb);
-            let s = (q2 - 4.0) * q * t;
-            (-0.11368210220849667 * s * s * s, (-0.34104630662549 * s * s) * qb * t)
-        } else {
-            (0.0, 0.0)
-        }
-    }
-    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
     #[inline(always)]
     fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
         let (b, b2, div, w0, w1, w2, w3, g0, g1, g2) = if q2 <= 1.0 {
@@ -129,206 +75,6 @@ impl Kernel for Monaghan {
             ((g2 * s + g1) * s + g0) * if div { qb * t } else { 1.0 },
         )
     }
-}
-const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 1.0,
-    area: 0.8660254037844386,
-};
-/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Monaghan>(&EPS_TRIANGULAR_1, t, n, walls)
-}
-const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.5124410673280702,
-};
-/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Monaghan>(&EPS_TRIANGULAR_13_10, t, n, walls)
-}
-const EPS_SQUARE_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 1.0,
-    area: 1.0,
-};
-/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Monaghan>(&EPS_SQUARE_1, t, n, walls)
-}
-const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.591715976331361,
-};
-/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Monaghan>(&EPS_SQUARE_13_10, t, n, walls)
-}
-const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-    ],
-    reach: 5i32,
-    inv_h2: 0.3460207612456747,
-    area: 0.3460207612456747,
-};
-/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Monaghan>(&EPS_SQUARE_17_10, t, n, walls)
 }
 /// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
 pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
@@ -527,192 +273,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_1,
-        eps_at: eps_at_triangular_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+            ],
+            reach: 3i32,
+            inv_h2: 1.0,
+            area: 0.8660254037844386,
+        },
+        eps_at: eps_at_disc::<Monaghan, 0usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Triangular,
@@ -909,222 +502,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 6.75,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_13_10,
-        eps_at: eps_at_triangular_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.5124410673280702,
+        },
+        eps_at: eps_at_disc::<Monaghan, 1usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1321,152 +741,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_1,
-        eps_at: eps_at_square_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+            ],
+            reach: 3i32,
+            inv_h2: 1.0,
+            area: 1.0,
+        },
+        eps_at: eps_at_disc::<Monaghan, 2usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1663,212 +970,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_13_10,
-        eps_at: eps_at_square_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.591715976331361,
+        },
+        eps_at: eps_at_disc::<Monaghan, 3usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -2065,382 +1199,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_17_10,
-        eps_at: eps_at_square_17_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+            ],
+            reach: 5i32,
+            inv_h2: 0.3460207612456747,
+            area: 0.3460207612456747,
+        },
+        eps_at: eps_at_disc::<Monaghan, 4usize>,
     },
 ];
 /// Everything the derivation found; see `shearsph-codegen show`. The
@@ -2461,9 +1262,7 @@ pub const INFO: KernelInfo = KernelInfo {
         p: 6.0,
         q: 5.0,
     }),
-    stencil_t0: DISCRETISATIONS[0].stencil_t0,
-    stencil_half: DISCRETISATIONS[0].stencil_half,
-    eps_at: eps_at_triangular_1,
+    eps_at: DISCRETISATIONS[0].eps_at,
     printed_eps: Some(PrintedEps {
         t0: "-0.004120",
         half_period: "0.001984",

@@ -2,8 +2,8 @@
 // Source: kernels/morris.toml
 
 use crate::kernel::{
-    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
-    EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps, StencilPoint,
+    eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
+    EpsLattice, EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
 };
 /// Morris quintic spline (R = 3).
 ///
@@ -14,7 +14,6 @@ use crate::kernel::{
 pub struct Morris;
 impl Kernel for Morris {
     const NAME: &'static str = "morris";
-    const SUPPORT: f64 = 3.0;
     const SUPPORT2_CLOSED: f64 = 9.000000009;
     const INFO: &'static KernelInfo = &INFO;
     /// W(q), q^2 = `q2`, units h^-2. Pieces (exact):
@@ -40,90 +39,10 @@ impl Kernel for Morris {
             0.0
         }
     }
-    /// dW/dq (derivative of W), units h^-3. Pieces (exact):
+    /// (W, (dW/dq)/q) of a pair, units h^-2 and h^-4, as the solver's pair loops take it. dW/dq (derivative of W), pieces (exact):
     /// - (0, 1]: (-420/(239*pi))*q + (420/(239*pi))*q^3 + (-175/(239*pi))*q^4
     /// - (1, 2]: (525/(478*pi)) + (-1470/(239*pi))*q + (1575/(239*pi))*q^2 + (-630/(239*pi))*q^3 + (175/(478*pi))*q^4
     /// - (2, 3]: (-2835/(478*pi)) + (1890/(239*pi))*q + (-945/(239*pi))*q^2 + (210/(239*pi))*q^3 + (-35/(478*pi))*q^4
-    #[inline(always)]
-    fn dw(q2: f64) -> f64 {
-        if q2 <= 1.0 {
-            q2.sqrt()
-                * {
-                    let s = q2.sqrt() - 1.0;
-                    ((-0.233072092393989 * s + -0.1398432554363934) * s
-                        + 0.41952976630918015) * s + -0.233072092393989
-                }
-        } else if q2 <= 4.0 {
-            let s = q2.sqrt() - 2.0;
-            (((0.1165360461969945 * s + 0.0932288369575956) * s + -0.1398432554363934)
-                * s + 0.0932288369575956) * s + -0.0233072092393989
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let s = (q2 - 9.0) / (q2.sqrt() + 3.0);
-            -0.0233072092393989 * s * s * s * s
-        } else {
-            0.0
-        }
-    }
-    /// (dW/dq)/q, units h^-4.
-    #[inline(always)]
-    fn dw_over_q(q2: f64) -> f64 {
-        if q2 <= 1.0 {
-            let s = q2.sqrt() - 1.0;
-            ((-0.233072092393989 * s + -0.1398432554363934) * s + 0.41952976630918015)
-                * s + -0.233072092393989
-        } else if q2 <= 4.0 {
-            let q = q2.sqrt();
-            let s = q - 2.0;
-            ((((0.1165360461969945 * s + 0.0932288369575956) * s + -0.1398432554363934)
-                * s + 0.0932288369575956) * s + -0.0233072092393989) / q
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let q = q2.sqrt();
-            let qb = q + 3.0;
-            let t = 1.0 / (q * qb);
-            let s = (q2 - 9.0) * q * t;
-            (-0.0233072092393989 * s * s * s * s) * qb * t
-        } else {
-            0.0
-        }
-    }
-    /// (W, (dW/dq)/q) together: one branch, square root and shifted variable for both.
-    #[inline(always)]
-    fn w_dw_over_q(q2: f64) -> (f64, f64) {
-        if q2 <= 1.0 {
-            let q = q2.sqrt();
-            let s = q - 1.0;
-            (
-                ((((-0.0466144184787978 * s + -0.0932288369575956) * s
-                    + 0.0932288369575956) * s + 0.0932288369575956) * s
-                    + -0.233072092393989) * s + 0.12119748804487428,
-                ((-0.233072092393989 * s + -0.1398432554363934) * s
-                    + 0.41952976630918015) * s + -0.233072092393989,
-            )
-        } else if q2 <= 4.0 {
-            let q = q2.sqrt();
-            let s = q - 2.0;
-            (
-                ((((0.0233072092393989 * s + 0.0233072092393989) * s
-                    + -0.0466144184787978) * s + 0.0466144184787978) * s
-                    + -0.0233072092393989) * s + 0.00466144184787978,
-                ((((0.1165360461969945 * s + 0.0932288369575956) * s
-                    + -0.1398432554363934) * s + 0.0932288369575956) * s
-                    + -0.0233072092393989) / q,
-            )
-        } else if q2 <= Self::SUPPORT2_CLOSED {
-            let q = q2.sqrt();
-            let qb = q + 3.0;
-            let t = 1.0 / (q * qb);
-            let s = (q2 - 9.0) * q * t;
-            (
-                -0.00466144184787978 * s * s * s * s * s,
-                (-0.0233072092393989 * s * s * s * s) * qb * t,
-            )
-        } else {
-            (0.0, 0.0)
-        }
-    }
-    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
     #[inline(always)]
     fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
         let (b, b2, div, w0, w1, w2, w3, w4, w5, g0, g1, g2, g3, g4) = if q2 <= 1.0 {
@@ -190,266 +109,6 @@ impl Kernel for Morris {
                 * if div { qb * t } else { 1.0 },
         )
     }
-}
-const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 1.0,
-    area: 0.8660254037844386,
-};
-/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Morris>(&EPS_TRIANGULAR_1, t, n, walls)
-}
-const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -4i32,
-            phase0: 0.0,
-            y2: 12.0,
-        },
-        EpsRow {
-            k: -3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-        EpsRow {
-            k: 4i32,
-            phase0: 0.0,
-            y2: 12.0,
-        },
-    ],
-    reach: 5i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.5124410673280702,
-};
-/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Morris>(&EPS_TRIANGULAR_13_10, t, n, walls)
-}
-const EPS_SQUARE_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 1.0,
-    area: 1.0,
-};
-/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Morris>(&EPS_SQUARE_1, t, n, walls)
-}
-const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-    ],
-    reach: 5i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.591715976331361,
-};
-/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Morris>(&EPS_SQUARE_13_10, t, n, walls)
-}
-const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -5i32,
-            phase0: 0.0,
-            y2: 25.0,
-        },
-        EpsRow {
-            k: -4i32,
-            phase0: 0.0,
-            y2: 16.0,
-        },
-        EpsRow {
-            k: -3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: 4i32,
-            phase0: 0.0,
-            y2: 16.0,
-        },
-        EpsRow {
-            k: 5i32,
-            phase0: 0.0,
-            y2: 25.0,
-        },
-    ],
-    reach: 7i32,
-    inv_h2: 0.3460207612456747,
-    area: 0.3460207612456747,
-};
-/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Morris>(&EPS_SQUARE_17_10, t, n, walls)
 }
 /// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
 pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
@@ -648,362 +307,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 9.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 7.75,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_1,
-        eps_at: eps_at_triangular_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 1.0,
+            area: 0.8660254037844386,
+        },
+        eps_at: eps_at_disc::<Morris, 0usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Triangular,
@@ -1200,542 +546,59 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -4i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: -1i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: -1i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: 1i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: 1i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 4i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 4i32,
-                r2: 13.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -4i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -3i32,
-                r2: 10.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -3i32,
-                r2: 10.75,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -1i32,
-                r2: 9.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -1i32,
-                r2: 9.75,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 1i32,
-                r2: 9.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 1i32,
-                r2: 9.75,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 7.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 3i32,
-                r2: 10.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 7.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 3i32,
-                r2: 10.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 4i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 4i32,
-                r2: 12.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 4i32,
-                r2: 13.0,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_13_10,
-        eps_at: eps_at_triangular_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -4i32,
+                    phase0: 0.0,
+                    y2: 12.0,
+                },
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+                EpsRow {
+                    k: 4i32,
+                    phase0: 0.0,
+                    y2: 12.0,
+                },
+            ],
+            reach: 5i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.5124410673280702,
+        },
+        eps_at: eps_at_disc::<Morris, 1usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1932,302 +795,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 9.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_1,
-        eps_at: eps_at_square_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 1.0,
+            area: 1.0,
+        },
+        eps_at: eps_at_disc::<Morris, 2usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -2424,462 +1034,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -2.0,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 3i32,
-                r2: 13.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: -1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: -1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: 1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: 1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_13_10,
-        eps_at: eps_at_square_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+            ],
+            reach: 5i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.591715976331361,
+        },
+        eps_at: eps_at_disc::<Morris, 3usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -3076,872 +1273,69 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -5i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -5i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -5i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -4i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: -3i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -3i32,
-                r2: 18.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -3i32,
-                r2: 18.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: -3i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: -2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: -2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -5.0,
-                k: -1i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: -1i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: -1i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 5.0,
-                k: -1i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: -5.0,
-                k: 0i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 0i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 0i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 5.0,
-                k: 0i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -5.0,
-                k: 1i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 1i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 1i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 5.0,
-                k: 1i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 3i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 3i32,
-                r2: 18.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 3i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 3i32,
-                r2: 18.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 3i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 4i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 5i32,
-                r2: 26.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 5i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 5i32,
-                r2: 26.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -0.5,
-                k: -5i32,
-                r2: 25.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -5i32,
-                r2: 25.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -4i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: -3i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -3i32,
-                r2: 15.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -3i32,
-                r2: 15.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: -3i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: -2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: -2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -4.5,
-                k: -1i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: -1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: -1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: 4.5,
-                k: -1i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -5.0,
-                k: 0i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 0i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 0i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 5.0,
-                k: 0i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -4.5,
-                k: 1i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: 1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: 1i32,
-                r2: 13.25,
-            },
-            StencilPoint {
-                x: 4.5,
-                k: 1i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -4.0,
-                k: 2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 2i32,
-                r2: 13.0,
-            },
-            StencilPoint {
-                x: 4.0,
-                k: 2i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -3.5,
-                k: 3i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 3i32,
-                r2: 15.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 3i32,
-                r2: 15.25,
-            },
-            StencilPoint {
-                x: 3.5,
-                k: 3i32,
-                r2: 21.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 4i32,
-                r2: 16.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 4i32,
-                r2: 17.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 4i32,
-                r2: 20.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 4i32,
-                r2: 25.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 5i32,
-                r2: 25.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 5i32,
-                r2: 25.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_17_10,
-        eps_at: eps_at_square_17_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -5i32,
+                    phase0: 0.0,
+                    y2: 25.0,
+                },
+                EpsRow {
+                    k: -4i32,
+                    phase0: 0.0,
+                    y2: 16.0,
+                },
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: 4i32,
+                    phase0: 0.0,
+                    y2: 16.0,
+                },
+                EpsRow {
+                    k: 5i32,
+                    phase0: 0.0,
+                    y2: 25.0,
+                },
+            ],
+            reach: 7i32,
+            inv_h2: 0.3460207612456747,
+            area: 0.3460207612456747,
+        },
+        eps_at: eps_at_disc::<Morris, 4usize>,
     },
 ];
 /// Everything the derivation found; see `shearsph-codegen show`. The
@@ -3962,9 +1356,7 @@ pub const INFO: KernelInfo = KernelInfo {
         p: 83.0,
         q: 120.0,
     }),
-    stencil_t0: DISCRETISATIONS[0].stencil_t0,
-    stencil_half: DISCRETISATIONS[0].stencil_half,
-    eps_at: eps_at_triangular_1,
+    eps_at: DISCRETISATIONS[0].eps_at,
     printed_eps: Some(PrintedEps {
         t0: "-0.000131",
         half_period: "0.000094",

@@ -2,8 +2,8 @@
 // Source: kernels/wendland_c2.toml
 
 use crate::kernel::{
-    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
-    EpsRow, Kernel, KernelInfo, Lattice, StencilPoint,
+    eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
+    EpsLattice, EpsRow, Kernel, KernelInfo, Lattice,
 };
 /// Wendland C2 (R = 2).
 ///
@@ -14,7 +14,6 @@ use crate::kernel::{
 pub struct WendlandC2;
 impl Kernel for WendlandC2 {
     const NAME: &'static str = "wendland_c2";
-    const SUPPORT: f64 = 2.0;
     const SUPPORT2_CLOSED: f64 = 4.000000004;
     const INFO: &'static KernelInfo = &INFO;
     /// W(q), q^2 = `q2`, units h^-2. Pieces (exact):
@@ -28,33 +27,10 @@ impl Kernel for WendlandC2 {
             0.0
         }
     }
-    /// dW/dq (derivative of W), units h^-3. Pieces (exact):
+    /// (W, (dW/dq)/q) of a pair, units h^-2 and h^-4, as the solver's pair loops take it. dW/dq (derivative of W), pieces (exact):
     /// - (0, 2]: (-35/(4*pi))*q + (105/(8*pi))*q^2 + (-105/(16*pi))*q^3 + (35/(32*pi))*q^4
     #[inline(always)]
-    fn dw(q2: f64) -> f64 {
-        if q2 <= Self::SUPPORT2_CLOSED {
-            q2.sqrt()
-                * {
-                    let s = (q2 - 4.0) / (q2.sqrt() + 2.0);
-                    0.34815143801352105 * s * s * s
-                }
-        } else {
-            0.0
-        }
-    }
-    /// (dW/dq)/q, units h^-4.
-    #[inline(always)]
-    fn dw_over_q(q2: f64) -> f64 {
-        if q2 <= Self::SUPPORT2_CLOSED {
-            let s = (q2 - 4.0) / (q2.sqrt() + 2.0);
-            0.34815143801352105 * s * s * s
-        } else {
-            0.0
-        }
-    }
-    /// (W, (dW/dq)/q) together: one branch, square root and shifted variable for both.
-    #[inline(always)]
-    fn w_dw_over_q(q2: f64) -> (f64, f64) {
+    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
         if q2 <= Self::SUPPORT2_CLOSED {
             let q = q2.sqrt();
             let s = (q2 - 4.0) / (q + 2.0);
@@ -66,211 +42,6 @@ impl Kernel for WendlandC2 {
             (0.0, 0.0)
         }
     }
-    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
-    #[inline(always)]
-    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
-        Self::w_dw_over_q(q2)
-    }
-}
-const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 1.0,
-    area: 0.8660254037844386,
-};
-/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<WendlandC2>(&EPS_TRIANGULAR_1, t, n, walls)
-}
-const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 3.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.5,
-            y2: 6.75,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.5124410673280702,
-};
-/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<WendlandC2>(&EPS_TRIANGULAR_13_10, t, n, walls)
-}
-const EPS_SQUARE_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 1.0,
-    area: 1.0,
-};
-/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<WendlandC2>(&EPS_SQUARE_1, t, n, walls)
-}
-const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-    ],
-    reach: 4i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.591715976331361,
-};
-/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<WendlandC2>(&EPS_SQUARE_13_10, t, n, walls)
-}
-const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-        EpsRow {
-            k: -2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 2i32,
-            phase0: 0.0,
-            y2: 4.0,
-        },
-        EpsRow {
-            k: 3i32,
-            phase0: 0.0,
-            y2: 9.0,
-        },
-    ],
-    reach: 5i32,
-    inv_h2: 0.3460207612456747,
-    area: 0.3460207612456747,
-};
-/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<WendlandC2>(&EPS_SQUARE_17_10, t, n, walls)
 }
 /// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
 pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
@@ -469,192 +240,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_1,
-        eps_at: eps_at_triangular_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+            ],
+            reach: 3i32,
+            inv_h2: 1.0,
+            area: 0.8660254037844386,
+        },
+        eps_at: eps_at_disc::<WendlandC2, 0usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Triangular,
@@ -851,222 +469,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 6.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 1.75,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 4.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 3.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 6.75,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_13_10,
-        eps_at: eps_at_triangular_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.5,
+                    y2: 0.75,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 3.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.5,
+                    y2: 6.75,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.5124410673280702,
+        },
+        eps_at: eps_at_disc::<WendlandC2, 1usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1263,152 +708,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_1,
-        eps_at: eps_at_square_1,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+            ],
+            reach: 3i32,
+            inv_h2: 1.0,
+            area: 1.0,
+        },
+        eps_at: eps_at_disc::<WendlandC2, 2usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1605,212 +937,39 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_13_10,
-        eps_at: eps_at_square_13_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+            ],
+            reach: 4i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.591715976331361,
+        },
+        eps_at: eps_at_disc::<WendlandC2, 3usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -2007,382 +1166,49 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: -1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 1i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 1i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 3i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 3i32,
-                r2: 10.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: -2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: -1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: -1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 0i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 3.0,
-                k: 0i32,
-                r2: 9.0,
-            },
-            StencilPoint {
-                x: -2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 1i32,
-                r2: 3.25,
-            },
-            StencilPoint {
-                x: 2.5,
-                k: 1i32,
-                r2: 7.25,
-            },
-            StencilPoint {
-                x: -2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 2i32,
-                r2: 4.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 2i32,
-                r2: 5.0,
-            },
-            StencilPoint {
-                x: 2.0,
-                k: 2i32,
-                r2: 8.0,
-            },
-            StencilPoint {
-                x: -1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 3i32,
-                r2: 9.25,
-            },
-            StencilPoint {
-                x: 1.5,
-                k: 3i32,
-                r2: 11.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_17_10,
-        eps_at: eps_at_square_17_10,
+        eps_lattice: EpsLattice {
+            rows: &[
+                EpsRow {
+                    k: -3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+                EpsRow {
+                    k: -2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: -1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 0i32,
+                    phase0: 0.0,
+                    y2: 0.0,
+                },
+                EpsRow {
+                    k: 1i32,
+                    phase0: 0.0,
+                    y2: 1.0,
+                },
+                EpsRow {
+                    k: 2i32,
+                    phase0: 0.0,
+                    y2: 4.0,
+                },
+                EpsRow {
+                    k: 3i32,
+                    phase0: 0.0,
+                    y2: 9.0,
+                },
+            ],
+            reach: 5i32,
+            inv_h2: 0.3460207612456747,
+            area: 0.3460207612456747,
+        },
+        eps_at: eps_at_disc::<WendlandC2, 4usize>,
     },
 ];
 /// Everything the derivation found; see `shearsph-codegen show`. The
@@ -2397,9 +1223,7 @@ pub const INFO: KernelInfo = KernelInfo {
     c0_default: "field-av",
     c0_models: DISCRETISATIONS[0].c0_models,
     printed_c0: None,
-    stencil_t0: DISCRETISATIONS[0].stencil_t0,
-    stencil_half: DISCRETISATIONS[0].stencil_half,
-    eps_at: eps_at_triangular_1,
+    eps_at: DISCRETISATIONS[0].eps_at,
     printed_eps: None,
     discretisations: &DISCRETISATIONS,
     flops_per_pair: 14u32,
