@@ -3,7 +3,7 @@
 
 use crate::kernel::{
     eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
-    EpsLattice, EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
+    EpsLattice, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
 };
 /// Composite kernel (R = 1).
 ///
@@ -242,23 +242,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-            ],
+            lattice: Lattice::Triangular,
+            layers: 1i32,
+            dy2: 0.75,
             reach: 2i32,
             inv_h2: 1.0,
             area: 0.8660254037844386,
@@ -461,23 +447,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-            ],
+            lattice: Lattice::Triangular,
+            layers: 1i32,
+            dy2: 0.75,
             reach: 3i32,
             inv_h2: 0.5917159763313609,
             area: 0.5124410673280702,
@@ -680,23 +652,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
             reach: 2i32,
             inv_h2: 1.0,
             area: 1.0,
@@ -899,23 +857,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
             reach: 3i32,
             inv_h2: 0.5917159763313609,
             area: 0.591715976331361,
@@ -1118,23 +1062,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
             reach: 3i32,
             inv_h2: 0.3460207612456747,
             area: 0.3460207612456747,

@@ -3,7 +3,7 @@
 
 use crate::kernel::{
     eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
-    EpsLattice, EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
+    EpsLattice, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
 };
 /// Morris quintic spline (R = 3).
 ///
@@ -308,43 +308,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -3i32,
-                    phase0: 0.5,
-                    y2: 6.75,
-                },
-                EpsRow {
-                    k: -2i32,
-                    phase0: 0.0,
-                    y2: 3.0,
-                },
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 2i32,
-                    phase0: 0.0,
-                    y2: 3.0,
-                },
-                EpsRow {
-                    k: 3i32,
-                    phase0: 0.5,
-                    y2: 6.75,
-                },
-            ],
+            lattice: Lattice::Triangular,
+            layers: 3i32,
+            dy2: 0.75,
             reach: 4i32,
             inv_h2: 1.0,
             area: 0.8660254037844386,
@@ -547,53 +513,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -4i32,
-                    phase0: 0.0,
-                    y2: 12.0,
-                },
-                EpsRow {
-                    k: -3i32,
-                    phase0: 0.5,
-                    y2: 6.75,
-                },
-                EpsRow {
-                    k: -2i32,
-                    phase0: 0.0,
-                    y2: 3.0,
-                },
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.5,
-                    y2: 0.75,
-                },
-                EpsRow {
-                    k: 2i32,
-                    phase0: 0.0,
-                    y2: 3.0,
-                },
-                EpsRow {
-                    k: 3i32,
-                    phase0: 0.5,
-                    y2: 6.75,
-                },
-                EpsRow {
-                    k: 4i32,
-                    phase0: 0.0,
-                    y2: 12.0,
-                },
-            ],
+            lattice: Lattice::Triangular,
+            layers: 4i32,
+            dy2: 0.75,
             reach: 5i32,
             inv_h2: 0.5917159763313609,
             area: 0.5124410673280702,
@@ -796,43 +718,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-                EpsRow {
-                    k: -2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: 3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 3i32,
+            dy2: 1.0,
             reach: 4i32,
             inv_h2: 1.0,
             area: 1.0,
@@ -1035,43 +923,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-                EpsRow {
-                    k: -2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: 3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 3i32,
+            dy2: 1.0,
             reach: 5i32,
             inv_h2: 0.5917159763313609,
             area: 0.591715976331361,
@@ -1274,63 +1128,9 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
         ],
         no_c0: &[],
         eps_lattice: EpsLattice {
-            rows: &[
-                EpsRow {
-                    k: -5i32,
-                    phase0: 0.0,
-                    y2: 25.0,
-                },
-                EpsRow {
-                    k: -4i32,
-                    phase0: 0.0,
-                    y2: 16.0,
-                },
-                EpsRow {
-                    k: -3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-                EpsRow {
-                    k: -2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: -1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 0i32,
-                    phase0: 0.0,
-                    y2: 0.0,
-                },
-                EpsRow {
-                    k: 1i32,
-                    phase0: 0.0,
-                    y2: 1.0,
-                },
-                EpsRow {
-                    k: 2i32,
-                    phase0: 0.0,
-                    y2: 4.0,
-                },
-                EpsRow {
-                    k: 3i32,
-                    phase0: 0.0,
-                    y2: 9.0,
-                },
-                EpsRow {
-                    k: 4i32,
-                    phase0: 0.0,
-                    y2: 16.0,
-                },
-                EpsRow {
-                    k: 5i32,
-                    phase0: 0.0,
-                    y2: 25.0,
-                },
-            ],
+            lattice: Lattice::Square,
+            layers: 5i32,
+            dy2: 1.0,
             reach: 7i32,
             inv_h2: 0.3460207612456747,
             area: 0.3460207612456747,

@@ -267,20 +267,15 @@ pub struct NoC0 {
     pub fact: &'static str,
 }
 
-/// One lattice row of the eps(t, n) sum: layer offset k, its phase at t = 0
-/// (fraction of d) and y^2 = (k dy)^2 in d^2.
-#[derive(Debug, Clone, Copy)]
-pub struct EpsRow {
-    pub k: i32,
-    pub phase0: f64,
-    pub y2: f64,
-}
-
 /// What [`eps_at`] needs of a discretisation.
 #[derive(Debug, Clone, Copy)]
 pub struct EpsLattice {
-    /// The rows in reach, by k.
-    pub rows: &'static [EpsRow],
+    /// The lattice: row k's phase at t = 0 is `lattice.offset(k)` (in d).
+    pub lattice: Lattice,
+    /// The rows in reach: k = -layers..=layers.
+    pub layers: i32,
+    /// dy^2 in d^2 (3/4 or 1, exact): row k is at y^2 = k^2 dy^2.
+    pub dy2: f64,
     /// Particles a = -reach..=reach of each row are summed (in d).
     pub reach: i32,
     /// (d/h)^2: q^2 = r^2 (d/h)^2.
@@ -307,18 +302,21 @@ pub fn eps_at<K: Kernel>(lat: &EpsLattice, t: f64, n: u32, walls: Option<u32>) -
         sum
     };
     let mut sum = 0.0;
-    for r in lat.rows {
-        if r.k == 0 {
+    for k in -lat.layers..=lat.layers {
+        let kf = f64::from(k);
+        // exact: k^2 dy^2 has few bits, the phase is 0 or 1/2
+        let (phase0, y2) = (lat.lattice.offset(k), kf * kf * lat.dy2);
+        if k == 0 {
             // the own layer never moves relative to the particle
-            sum += row(r.phase0, r.y2);
+            sum += row(phase0, y2);
             continue;
         }
-        let j = n + r.k as f64;
+        let j = n + kf;
         let speed = match walls {
             Some(nl) if j.abs() >= nl => n * n - nl * nl,
             _ => n * n - j * j,
         };
-        sum += row(r.phase0 + speed * t, r.y2);
+        sum += row(phase0 + speed * t, y2);
     }
     lat.area * sum - 1.0
 }

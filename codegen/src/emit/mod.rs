@@ -108,21 +108,16 @@ fn c0_tokens(da: &DiscAnalysis, digits: usize) -> (Vec<TokenStream>, Vec<TokenSt
     (models, none)
 }
 
-/// The eps rows of one discretisation, as data for the generic `eps_at`.
-fn eps_lattice_tokens(a: &Analysis, da: &DiscAnalysis) -> TokenStream {
+/// What the generic `eps_at` needs of one discretisation, as data: the
+/// lattice, the rows in reach and the particles of each.
+fn eps_lattice_tokens(a: &Analysis, da: &DiscAnalysis, lattice: &TokenStream) -> TokenStream {
     let disc = &da.disc;
-    let kmax = max_layer_offset(disc, &a.def.support);
-    let dy2 = disc.lattice.dy2();
-    let rows = (-kmax..=kmax).map(|k| {
-        let k32 = k as i32;
-        let ph = lit(disc.lattice.phase0(k).to_f64());
-        let y2 = lit(Rational::from(&dy2 * (k * k)).to_f64());
-        quote!(EpsRow { k: #k32, phase0: #ph, y2: #y2 })
-    });
+    let layers = max_layer_offset(disc, &a.def.support) as i32;
+    let dy2 = lit(disc.lattice.dy2().to_f64());
     let reach = row_reach(disc, &a.def.support) as i32;
     let inv_h2 = lit((Rational::from(1) / disc.h2()).to_f64());
     let area = lit(cell_area(disc).to_f64());
-    quote!(EpsLattice { rows: &[#(#rows),*], reach: #reach, inv_h2: #inv_h2, area: #area })
+    quote!(EpsLattice { lattice: #lattice, layers: #layers, dy2: #dy2, reach: #reach, inv_h2: #inv_h2, area: #area })
 }
 
 /// One discretisation's `DiscretisationInfo`, entry `index` of the kernel's:
@@ -157,7 +152,7 @@ fn disc_tokens(
     let symmetric = cc.symmetric.is_some();
     let label = &cc.label;
     let (models, none) = c0_tokens(da, a.digits);
-    let lat = eps_lattice_tokens(a, da);
+    let lat = eps_lattice_tokens(a, da, &lattice);
     quote! {
         DiscretisationInfo {
             lattice: #lattice,
@@ -263,7 +258,6 @@ pub fn kernel_module(a: &Analysis) -> String {
         quote!(DiscretisationInfo),
         quote!(EpsInfo),
         quote!(EpsLattice),
-        quote!(EpsRow),
         quote!(Kernel),
         quote!(KernelInfo),
         quote!(Lattice),

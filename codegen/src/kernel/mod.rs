@@ -18,6 +18,7 @@ mod shape;
 pub use names::{
     check_emitted_names, identifiers, name_problem, neutral_name, RESERVED_NAMES, RUST_KEYWORDS,
 };
+pub(crate) use parse::line_col;
 pub use parse::{load_dir, parse_kernel, read_kernel_file};
 pub use shape::shape_facts;
 

@@ -31,7 +31,9 @@ struct PieceFile {
     expr: Spanned<String>,
 }
 
-fn line_col(src: &str, byte: usize) -> (usize, usize) {
+/// The 1-based line and column (in characters) of a byte offset: where an
+/// error in a TOML file of `kernels/` points.
+pub(crate) fn line_col(src: &str, byte: usize) -> (usize, usize) {
     let before = &src[..byte.min(src.len())];
     let line = before.matches('\n').count() + 1;
     let col = before
