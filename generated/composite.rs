@@ -2,8 +2,8 @@
 // Source: kernels/composite.toml
 
 use crate::kernel::{
-    eps_at, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo, EpsLattice,
-    EpsRow, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps, StencilPoint,
+    eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
+    EpsLattice, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
 };
 /// Composite kernel (R = 1).
 ///
@@ -14,7 +14,6 @@ use crate::kernel::{
 pub struct Composite;
 impl Kernel for Composite {
     const NAME: &'static str = "composite";
-    const SUPPORT: f64 = 1.0;
     const SUPPORT2_CLOSED: f64 = 1.000000001;
     const INFO: &'static KernelInfo = &INFO;
     /// W(q), q^2 = `q2`, units h^-2. Pieces (exact):
@@ -28,31 +27,10 @@ impl Kernel for Composite {
             0.0
         }
     }
-    /// dW/dq (given separately), units h^-3. Pieces (exact):
+    /// (W, (dW/dq)/q) of a pair, units h^-2 and h^-4, as the solver's pair loops take it. dW/dq (given separately), pieces (exact):
     /// - (0, 1]: (-1320/(133*pi)) + (5808/(665*pi))*q
     #[inline(always)]
-    fn dw(q2: f64) -> f64 {
-        if q2 <= Self::SUPPORT2_CLOSED {
-            let s = q2.sqrt() - 1.0;
-            2.7800658931660998 * s + -0.3790998945226499
-        } else {
-            0.0
-        }
-    }
-    /// (dW/dq)/q, units h^-4.
-    #[inline(always)]
-    fn dw_over_q(q2: f64) -> f64 {
-        if q2 <= Self::SUPPORT2_CLOSED {
-            let q = q2.sqrt();
-            let s = q - 1.0;
-            (2.7800658931660998 * s + -0.3790998945226499) / q
-        } else {
-            0.0
-        }
-    }
-    /// (W, (dW/dq)/q) together: one branch, square root and shifted variable for both.
-    #[inline(always)]
-    fn w_dw_over_q(q2: f64) -> (f64, f64) {
+    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
         if q2 <= Self::SUPPORT2_CLOSED {
             let u = q2 - 1.0;
             let q = q2.sqrt();
@@ -65,141 +43,6 @@ impl Kernel for Composite {
             (0.0, 0.0)
         }
     }
-    /// (W, (dW/dq)/q) without branches, for pair loops in vector lanes.
-    #[inline(always)]
-    fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) {
-        Self::w_dw_over_q(q2)
-    }
-}
-const EPS_TRIANGULAR_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-    ],
-    reach: 2i32,
-    inv_h2: 1.0,
-    area: 0.8660254037844386,
-};
-/// eps(t, n) on the triangular, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Composite>(&EPS_TRIANGULAR_1, t, n, walls)
-}
-const EPS_TRIANGULAR_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.5,
-            y2: 0.75,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.5124410673280702,
-};
-/// eps(t, n) on the triangular, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_triangular_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Composite>(&EPS_TRIANGULAR_13_10, t, n, walls)
-}
-const EPS_SQUARE_1: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-    ],
-    reach: 2i32,
-    inv_h2: 1.0,
-    area: 1.0,
-};
-/// eps(t, n) on the square, h/d = 1 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_1(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Composite>(&EPS_SQUARE_1, t, n, walls)
-}
-const EPS_SQUARE_13_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 0.5917159763313609,
-    area: 0.591715976331361,
-};
-/// eps(t, n) on the square, h/d = 13/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_13_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Composite>(&EPS_SQUARE_13_10, t, n, walls)
-}
-const EPS_SQUARE_17_10: EpsLattice = EpsLattice {
-    rows: &[
-        EpsRow {
-            k: -1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-        EpsRow {
-            k: 0i32,
-            phase0: 0.0,
-            y2: 0.0,
-        },
-        EpsRow {
-            k: 1i32,
-            phase0: 0.0,
-            y2: 1.0,
-        },
-    ],
-    reach: 3i32,
-    inv_h2: 0.3460207612456747,
-    area: 0.3460207612456747,
-};
-/// eps(t, n) on the square, h/d = 17/10 discretisation; see `shearsph::kernel::eps_at`.
-pub fn eps_at_square_17_10(t: f64, n: u32, walls: Option<u32>) -> f64 {
-    eps_at::<Composite>(&EPS_SQUARE_17_10, t, n, walls)
 }
 /// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
 pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
@@ -398,72 +241,15 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_1,
-        eps_at: eps_at_triangular_1,
+        eps_lattice: EpsLattice {
+            lattice: Lattice::Triangular,
+            layers: 1i32,
+            dy2: 0.75,
+            reach: 2i32,
+            inv_h2: 1.0,
+            area: 0.8660254037844386,
+        },
+        eps_at: eps_at_disc::<Composite, 0usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Triangular,
@@ -660,72 +446,15 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 0.75,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 0.75,
-            },
-        ],
-        eps_lattice: EPS_TRIANGULAR_13_10,
-        eps_at: eps_at_triangular_13_10,
+        eps_lattice: EpsLattice {
+            lattice: Lattice::Triangular,
+            layers: 1i32,
+            dy2: 0.75,
+            reach: 3i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.5124410673280702,
+        },
+        eps_at: eps_at_disc::<Composite, 1usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -922,52 +651,15 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_1,
-        eps_at: eps_at_square_1,
+        eps_lattice: EpsLattice {
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
+            reach: 2i32,
+            inv_h2: 1.0,
+            area: 1.0,
+        },
+        eps_at: eps_at_disc::<Composite, 2usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1164,72 +856,15 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_13_10,
-        eps_at: eps_at_square_13_10,
+        eps_lattice: EpsLattice {
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
+            reach: 3i32,
+            inv_h2: 0.5917159763313609,
+            area: 0.591715976331361,
+        },
+        eps_at: eps_at_disc::<Composite, 3usize>,
     },
     DiscretisationInfo {
         lattice: Lattice::Square,
@@ -1426,92 +1061,15 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             },
         ],
         no_c0: &[],
-        stencil_t0: &[
-            StencilPoint {
-                x: -1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: -1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: -1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 1i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 1i32,
-                r2: 2.0,
-            },
-        ],
-        stencil_half: &[
-            StencilPoint {
-                x: -0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: -1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: -1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: 0.0,
-                k: 0i32,
-                r2: 0.0,
-            },
-            StencilPoint {
-                x: 1.0,
-                k: 0i32,
-                r2: 1.0,
-            },
-            StencilPoint {
-                x: -0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-            StencilPoint {
-                x: 0.5,
-                k: 1i32,
-                r2: 1.25,
-            },
-        ],
-        eps_lattice: EPS_SQUARE_17_10,
-        eps_at: eps_at_square_17_10,
+        eps_lattice: EpsLattice {
+            lattice: Lattice::Square,
+            layers: 1i32,
+            dy2: 1.0,
+            reach: 3i32,
+            inv_h2: 0.3460207612456747,
+            area: 0.3460207612456747,
+        },
+        eps_at: eps_at_disc::<Composite, 4usize>,
     },
 ];
 /// Everything the derivation found; see `shearsph-codegen show`. The
@@ -1532,9 +1090,7 @@ pub const INFO: KernelInfo = KernelInfo {
         p: 5.0,
         q: 12.0,
     }),
-    stencil_t0: DISCRETISATIONS[0].stencil_t0,
-    stencil_half: DISCRETISATIONS[0].stencil_half,
-    eps_at: eps_at_triangular_1,
+    eps_at: DISCRETISATIONS[0].eps_at,
     printed_eps: Some(PrintedEps {
         t0: "-0.000740",
         half_period: "0.059568",

@@ -12,8 +12,6 @@
 pub trait Kernel: Copy + Send + Sync + Default + 'static {
     /// Name as in `kernels/NAME.toml`.
     const NAME: &'static str;
-    /// Support R in units of h (W = 0 for q > R).
-    const SUPPORT: f64;
     /// Squared support with a relative tolerance of 1e-9: lattice neighbours at
     /// exactly q = R count as inside (closed support, as in the derivation),
     /// whatever the f64 round-off of their distance.
@@ -22,19 +20,15 @@ pub trait Kernel: Copy + Send + Sync + Default + 'static {
     const INFO: &'static KernelInfo;
     /// W(q), units h^-2.
     fn w(q2: f64) -> f64;
-    /// dW/dq (the kernel's gradient function, which may be given separately
-    /// from W), units h^-3.
-    fn dw(q2: f64) -> f64;
-    /// (dW/dq) / q, units h^-4. Finite at q = 0.
-    fn dw_over_q(q2: f64) -> f64;
-    /// (W, (dW/dq)/q) of one pair together, as accurate as each alone: the
-    /// pieces' branch, the square root and the shifted variable (and the one
-    /// division of an outer piece) are shared.
-    fn w_dw_over_q(q2: f64) -> (f64, f64);
-    /// The same without branches, for pair loops that run in vector lanes:
-    /// every piece in one form (one square root and one division per pair
-    /// whatever the piece, none for a kernel even in q), its constants
-    /// selected by q^2. As accurate; (0, 0) beyond the support.
+    /// (W, (dW/dq)/q) of one pair (dW/dq the kernel's gradient function,
+    /// which may be given separately from W; units h^-2 and h^-4), without
+    /// branches, for pair loops that run in vector lanes: every piece in one
+    /// form (one square root and one division per pair whatever the piece,
+    /// none for a kernel even in q), its constants selected by q^2. A kernel
+    /// of one piece (nothing to select), or whose W and W' pieces do not
+    /// share their joints, keeps its branch and each piece's own forms. As
+    /// accurate as W and (dW/dq)/q alone; (0, 0) beyond the support; finite
+    /// at q = 0.
     fn w_dw_over_q_lanes(q2: f64) -> (f64, f64);
 }
 
@@ -67,15 +61,6 @@ pub struct EpsInfo {
     pub t_min: Derived,
     /// Time mean over the period.
     pub mean: Derived,
-}
-
-/// One neighbour in a lattice stencil: x offset in units of d, layer
-/// offset k, and r^2 = x^2 + (k dy)^2 in d^2 (q^2 = r^2 / (h/d)^2).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StencilPoint {
-    pub x: f64,
-    pub k: i32,
-    pub r2: f64,
 }
 
 /// One model of the c0 derivation: the polynomial
@@ -164,10 +149,6 @@ pub struct KernelInfo {
     pub c0_models: &'static [C0Model],
     /// The paper's Table 2 row, when the kernel is one of the paper's.
     pub printed_c0: Option<PrintedC0>,
-    /// Neighbours of a particle (self included) at t = 0 and at the
-    /// maximum-compaction configuration t = 0.5 T, for h = d.
-    pub stencil_t0: &'static [StencilPoint],
-    pub stencil_half: &'static [StencilPoint],
     /// eps(t, n) for a particle of layer n, t as a fraction of T; an
     /// unrolled sum over the layers in reach. `walls = Some(N)` puts fixed
     /// wall layers at |j| >= N (u = 0); `None` is an interior particle.
@@ -286,20 +267,15 @@ pub struct NoC0 {
     pub fact: &'static str,
 }
 
-/// One lattice row of the eps(t, n) sum: layer offset k, its phase at t = 0
-/// (fraction of d) and y^2 = (k dy)^2 in d^2.
-#[derive(Debug, Clone, Copy)]
-pub struct EpsRow {
-    pub k: i32,
-    pub phase0: f64,
-    pub y2: f64,
-}
-
 /// What [`eps_at`] needs of a discretisation.
 #[derive(Debug, Clone, Copy)]
 pub struct EpsLattice {
-    /// The rows in reach, by k.
-    pub rows: &'static [EpsRow],
+    /// The lattice: row k's phase at t = 0 is `lattice.offset(k)` (in d).
+    pub lattice: Lattice,
+    /// The rows in reach: k = -layers..=layers.
+    pub layers: i32,
+    /// dy^2 in d^2 (3/4 or 1, exact): row k is at y^2 = k^2 dy^2.
+    pub dy2: f64,
     /// Particles a = -reach..=reach of each row are summed (in d).
     pub reach: i32,
     /// (d/h)^2: q^2 = r^2 (d/h)^2.
@@ -326,20 +302,29 @@ pub fn eps_at<K: Kernel>(lat: &EpsLattice, t: f64, n: u32, walls: Option<u32>) -
         sum
     };
     let mut sum = 0.0;
-    for r in lat.rows {
-        if r.k == 0 {
+    for k in -lat.layers..=lat.layers {
+        let kf = f64::from(k);
+        // exact: k^2 dy^2 has few bits, the phase is 0 or 1/2
+        let (phase0, y2) = (lat.lattice.offset(k), kf * kf * lat.dy2);
+        if k == 0 {
             // the own layer never moves relative to the particle
-            sum += row(r.phase0, r.y2);
+            sum += row(phase0, y2);
             continue;
         }
-        let j = n + r.k as f64;
+        let j = n + kf;
         let speed = match walls {
             Some(nl) if j.abs() >= nl => n * n - nl * nl,
             _ => n * n - j * j,
         };
-        sum += row(r.phase0 + speed * t, r.y2);
+        sum += row(phase0 + speed * t, y2);
     }
     lat.area * sum - 1.0
+}
+
+/// [`eps_at`] on discretisation `I` of kernel `K` (`K::INFO.discretisations[I]`):
+/// the one function every emitted `DiscretisationInfo::eps_at` points to.
+pub fn eps_at_disc<K: Kernel, const I: usize>(t: f64, n: u32, walls: Option<u32>) -> f64 {
+    eps_at::<K>(&K::INFO.discretisations[I].eps_lattice, t, n, walls)
 }
 
 /// Everything the generator derived for a kernel on one discretisation.
@@ -358,11 +343,10 @@ pub struct DiscretisationInfo {
     /// The models that have a c0 here (a != 0); the others are in `no_c0`.
     pub c0_models: &'static [C0Model],
     pub no_c0: &'static [NoC0],
-    /// Neighbours (self included) at t = 0 and t = 0.5 T, in d.
-    pub stencil_t0: &'static [StencilPoint],
-    pub stencil_half: &'static [StencilPoint],
     /// The rows of eps(t, n); `eps_at` evaluates them.
     pub eps_lattice: EpsLattice,
+    /// eps(t, n) on this discretisation: [`eps_at_disc`] for the kernel and
+    /// this entry's index.
     pub eps_at: fn(t: f64, n: u32, walls: Option<u32>) -> f64,
 }
 

@@ -9,7 +9,7 @@
 //! note = "SPHinXsys"      # optional, for the reader
 //! ```
 
-use crate::kernel::KernelError;
+use crate::kernel::{line_col, KernelError};
 use crate::lattice::{Discretisation, LatticeKind};
 use crate::poly::parse_rational;
 use rug::Rational;
@@ -37,18 +37,6 @@ struct Entry {
     h_over_d: Spanned<toml::Value>,
     #[allow(dead_code)]
     note: Option<String>,
-}
-
-fn line_col(src: &str, byte: usize) -> (usize, usize) {
-    let before = &src[..byte.min(src.len())];
-    let line = before.matches('\n').count() + 1;
-    let col = before
-        .rsplit('\n')
-        .next()
-        .map(|s| s.chars().count())
-        .unwrap_or(0)
-        + 1;
-    (line, col)
 }
 
 /// Reads and validates the file's text; the paper's discretisation comes

@@ -255,6 +255,13 @@ fn snapshots_of_every_kernel_on_every_discretisation() {
         // the paper's claims are checked on every discretisation
         for da in &a.discs {
             assert_eq!(da.claims.len(), 4, "{}", da.disc.label());
+            // the sums of eps include the particle itself
+            assert!(
+                da.terms_t0.iter().any(|t| t.nb.is_self()),
+                "{} on {}: the particle itself is in its stencil",
+                def.name,
+                da.disc.label()
+            );
             let _ = Config::T0;
         }
     }

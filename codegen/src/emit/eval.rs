@@ -2,8 +2,9 @@
 //! polynomial in a variable shifted to the piece's right end — `u = q^2 -
 //! b^2` when the piece is even in q (no square root), `s = q - b` otherwise —
 //! so values near the end of the support, where W has a high-order zero, keep
-//! full relative accuracy. Four strategies: W, dW/dq and (dW/dq)/q alone
-//! (branches), the pair fused, and the pair without branches (lanes).
+//! full relative accuracy. What the solver calls: W alone (branches), and
+//! the pair (W, (dW/dq)/q) without branches (lanes) or, for a kernel of one
+//! piece or with W' on other joints than W, with them (fused).
 
 use super::lit;
 use crate::exact::Exact;
@@ -89,10 +90,9 @@ fn horner(var: &TokenStream, p: &Poly) -> (TokenStream, u32) {
 
 /// One branch body for a piece: tokens and flops (sqrt counted as one).
 ///
-/// W: Horner in u if even, else in s. dW/dq: when W'(0) = 0, q times
-/// W'(q)/q (divided exactly on the polynomial), else as W. (dW/dq)/q: when W'(0) = 0 the division by q is done
-/// exactly on the polynomial (no cancellation near q = 0), then as W; only a
-/// gradient with W'(0) != 0 divides at run time.
+/// W: Horner in u if even, else in s. (dW/dq)/q: when W'(0) = 0 the
+/// division by q is done exactly on the polynomial (no cancellation near
+/// q = 0), then as W; only a gradient with W'(0) != 0 divides at run time.
 fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
     let b = &p.to;
     let b2 = lit(Rational::from(b * b).to_f64());
@@ -122,15 +122,6 @@ fn piece_body(p: &Piece, what: Which) -> (TokenStream, u32) {
     };
     match what {
         Which::W => plain(&p.poly),
-        Which::Dw => {
-            if p.poly.coef.first().is_none_or(|c| c.is_zero()) {
-                // W'(q) = q (W'(q)/q): no cancellation near q = 0
-                let (body, f) = plain(&div_q(&p.poly));
-                (quote! { q2.sqrt() * { #body } }, f + 2)
-            } else {
-                plain(&p.poly)
-            }
-        }
         Which::DwOverQ => {
             if p.poly.coef.first().is_none_or(|c| c.is_zero()) {
                 plain(&div_q(&p.poly))
@@ -269,15 +260,19 @@ fn fused_piece(pw: &Piece, pd: &Piece) -> (TokenStream, u32) {
     (quote! { #lets (#hw, #g) }, flops + fw + fg)
 }
 
+/// W's and W''s pieces end at the same joints.
+fn same_joints(w: &Radial, dw: &Radial) -> bool {
+    w.pieces.len() == dw.pieces.len() && w.pieces.iter().zip(&dw.pieces).all(|(a, b)| a.to == b.to)
+}
+
 /// The fused (W, (dW/dq)/q) and its largest flop count over branches. When
-/// W's and W''s pieces do not share their joints, the two functions in turn.
+/// W's and W''s pieces do not share their joints, W and (dW/dq)/q each with
+/// its own branches, in turn.
 pub(super) fn fused(w: &Radial, dw: &Radial) -> (TokenStream, u32) {
-    let same_joints = w.pieces.len() == dw.pieces.len()
-        && w.pieces.iter().zip(&dw.pieces).all(|(a, b)| a.to == b.to);
-    if !same_joints {
-        let (_, fw) = piecewise(w, Which::W);
-        let (_, fg) = piecewise(dw, Which::DwOverQ);
-        return (quote! { (Self::w(q2), Self::dw_over_q(q2)) }, fw + fg);
+    if !same_joints(w, dw) {
+        let (wb, fw) = piecewise(w, Which::W);
+        let (gb, fg) = piecewise(dw, Which::DwOverQ);
+        return (quote! { let w = #wb; let g = #gb; (w, g) }, fw + fg);
     }
     let n = w.pieces.len();
     let mut branches = Vec::new();
@@ -329,100 +324,15 @@ fn horner_vars(var: &TokenStream, prefix: &str, n: usize) -> TokenStream {
 /// is one piece (the fused function has no branch to remove then, and its
 /// forms are cheaper).
 pub(super) fn lanes(w: &Radial, dw: &Radial) -> Option<(TokenStream, u32)> {
-    let same_joints = w.pieces.len() == dw.pieces.len()
-        && w.pieces.iter().zip(&dw.pieces).all(|(a, b)| a.to == b.to);
-    if !same_joints || w.pieces.len() < 2 {
+    if !same_joints(w, dw) || w.pieces.len() < 2 {
         return None;
     }
-    let exact_div = |p: &Piece| p.poly.coef.first().is_none_or(|c| c.is_zero());
-    let g_poly = |p: &Piece| {
-        if exact_div(p) {
-            div_q(&p.poly)
-        } else {
-            p.poly.clone()
-        }
-    };
-    let all_even = w.pieces.iter().all(|p| p.poly.is_even())
-        && dw
-            .pieces
-            .iter()
-            .all(|p| exact_div(p) && g_poly(p).is_even());
-    // Coefficients of each piece in its shifted variable, as f64.
-    let coefs = |poly: &Poly, b: &Rational| -> Vec<f64> {
-        let shifted = if all_even {
-            shift_q2(poly, b)
-        } else {
-            shift_q(poly, b)
-        };
-        let mut c: Vec<f64> = shifted.coef.iter().map(|c| c.to_f64()).collect();
-        if all_even {
-            // u-polynomial: the even coefficients only
-            c = c.into_iter().step_by(2).collect();
-        }
-        if c.is_empty() {
-            c.push(0.0);
-        }
-        c
-    };
-    let pieces: Vec<(Rational, Vec<f64>, Vec<f64>, bool)> = w
-        .pieces
-        .iter()
-        .zip(&dw.pieces)
-        .map(|(pw, pd)| {
-            let b = pw.to.clone();
-            (
-                b.clone(),
-                coefs(&pw.poly, &b),
-                coefs(&g_poly(pd), &b),
-                !exact_div(pd),
-            )
-        })
-        .collect();
-    let nw = pieces.iter().map(|p| p.1.len()).max().unwrap_or(1);
-    let ng = pieces.iter().map(|p| p.2.len()).max().unwrap_or(1);
-    let divides = pieces.iter().any(|p| p.3);
-    let names = |prefix: &str, n: usize| -> Vec<proc_macro2::Ident> {
-        (0..n).map(|k| format_ident!("{prefix}{k}")).collect()
-    };
-    let (wn, gn) = (names("w", nw), names("g", ng));
-    let tuple = |b: f64, b2: f64, cw: &[f64], cg: &[f64], div: bool| {
-        let (b, b2) = (lit(b), lit(b2));
-        let cw = (0..nw).map(|k| lit(cw.get(k).copied().unwrap_or(0.0)));
-        let cg = (0..ng).map(|k| lit(cg.get(k).copied().unwrap_or(0.0)));
-        if divides {
-            quote!((#b, #b2, #div, #(#cw,)* #(#cg),*))
-        } else {
-            quote!((#b, #b2, #(#cw,)* #(#cg),*))
-        }
-    };
+    let (pieces, all_even) = lane_pieces(w, dw);
+    let nw = pieces.iter().map(|p| p.w.len()).max().unwrap_or(1);
+    let ng = pieces.iter().map(|p| p.g.len()).max().unwrap_or(1);
+    let divides = pieces.iter().any(|p| p.div);
+    let select = lane_select(&pieces, nw, ng, divides);
     let n = pieces.len();
-    let mut branches = Vec::new();
-    for (i, (b, cw, cg, div)) in pieces.iter().enumerate() {
-        let b2 = Rational::from(b * b).to_f64();
-        let t = tuple(Exact::rational(b.clone()).to_f64(), b2, cw, cg, *div);
-        let bound = if i + 1 == n {
-            quote!(Self::SUPPORT2_CLOSED)
-        } else {
-            let b2 = lit(b2);
-            quote!(#b2)
-        };
-        branches.push(quote! { if q2 <= #bound { #t } });
-    }
-    // beyond the support: W = 0 and W' = 0 (b any finite value)
-    let last_b = pieces.last().map(|p| p.0.clone()).unwrap_or_default();
-    let outside = tuple(
-        Exact::rational(last_b.clone()).to_f64(),
-        Rational::from(&last_b * &last_b).to_f64(),
-        &[],
-        &[],
-        false,
-    );
-    let pattern = if divides {
-        quote!((b, b2, div, #(#wn,)* #(#gn),*))
-    } else {
-        quote!((b, b2, #(#wn,)* #(#gn),*))
-    };
-    let select = quote! { let #pattern = #(#branches else)* { #outside }; };
     let mut flops = n as u32 + 2 * (nw as u32 - 1) + 2 * (ng as u32 - 1);
     let body = if all_even {
         let hw = horner_vars(&quote!(u), "w", nw);
@@ -458,10 +368,114 @@ pub(super) fn lanes(w: &Radial, dw: &Radial) -> Option<(TokenStream, u32)> {
     Some((body, flops))
 }
 
+/// One piece of the lanes form: its right end b, the coefficients of W and
+/// of G = (dW/dq)/q (or of dW/dq when `div`: divided by q at run time) in
+/// the shifted variable, as f64.
+struct LanePiece {
+    b: Rational,
+    w: Vec<f64>,
+    g: Vec<f64>,
+    div: bool,
+}
+
+/// The pieces of the lanes form, and whether every one is even in q (then
+/// the variable is u = q^2 - b^2, else s = q - b).
+fn lane_pieces(w: &Radial, dw: &Radial) -> (Vec<LanePiece>, bool) {
+    let exact_div = |p: &Piece| p.poly.coef.first().is_none_or(|c| c.is_zero());
+    let g_poly = |p: &Piece| {
+        if exact_div(p) {
+            div_q(&p.poly)
+        } else {
+            p.poly.clone()
+        }
+    };
+    let all_even = w.pieces.iter().all(|p| p.poly.is_even())
+        && dw
+            .pieces
+            .iter()
+            .all(|p| exact_div(p) && g_poly(p).is_even());
+    // Coefficients of each piece in its shifted variable, as f64.
+    let coefs = |poly: &Poly, b: &Rational| -> Vec<f64> {
+        let shifted = if all_even {
+            shift_q2(poly, b)
+        } else {
+            shift_q(poly, b)
+        };
+        let mut c: Vec<f64> = shifted.coef.iter().map(|c| c.to_f64()).collect();
+        if all_even {
+            // u-polynomial: the even coefficients only
+            c = c.into_iter().step_by(2).collect();
+        }
+        if c.is_empty() {
+            c.push(0.0);
+        }
+        c
+    };
+    let pieces = w
+        .pieces
+        .iter()
+        .zip(&dw.pieces)
+        .map(|(pw, pd)| LanePiece {
+            b: pw.to.clone(),
+            w: coefs(&pw.poly, &pw.to),
+            g: coefs(&g_poly(pd), &pw.to),
+            div: !exact_div(pd),
+        })
+        .collect();
+    (pieces, all_even)
+}
+
+/// `let (b, b2, [div,] w0.., g0..) = if q2 <= b1^2 { .. } else if ..`: each
+/// piece's constants (`nw` of W, `ng` of G, zero-padded) selected by q^2,
+/// the last piece up to the closed support, all 0 beyond it.
+fn lane_select(pieces: &[LanePiece], nw: usize, ng: usize, divides: bool) -> TokenStream {
+    let names = |prefix: &str, n: usize| -> Vec<proc_macro2::Ident> {
+        (0..n).map(|k| format_ident!("{prefix}{k}")).collect()
+    };
+    let (wn, gn) = (names("w", nw), names("g", ng));
+    let tuple = |b: f64, b2: f64, cw: &[f64], cg: &[f64], div: bool| {
+        let (b, b2) = (lit(b), lit(b2));
+        let cw = (0..nw).map(|k| lit(cw.get(k).copied().unwrap_or(0.0)));
+        let cg = (0..ng).map(|k| lit(cg.get(k).copied().unwrap_or(0.0)));
+        if divides {
+            quote!((#b, #b2, #div, #(#cw,)* #(#cg),*))
+        } else {
+            quote!((#b, #b2, #(#cw,)* #(#cg),*))
+        }
+    };
+    let n = pieces.len();
+    let mut branches = Vec::new();
+    for (i, p) in pieces.iter().enumerate() {
+        let b2 = Rational::from(&p.b * &p.b).to_f64();
+        let t = tuple(Exact::rational(p.b.clone()).to_f64(), b2, &p.w, &p.g, p.div);
+        let bound = if i + 1 == n {
+            quote!(Self::SUPPORT2_CLOSED)
+        } else {
+            let b2 = lit(b2);
+            quote!(#b2)
+        };
+        branches.push(quote! { if q2 <= #bound { #t } });
+    }
+    // beyond the support: W = 0 and W' = 0 (b any finite value)
+    let last_b = pieces.last().map(|p| p.b.clone()).unwrap_or_default();
+    let outside = tuple(
+        Exact::rational(last_b.clone()).to_f64(),
+        Rational::from(&last_b * &last_b).to_f64(),
+        &[],
+        &[],
+        false,
+    );
+    let pattern = if divides {
+        quote!((b, b2, div, #(#wn,)* #(#gn),*))
+    } else {
+        quote!((b, b2, #(#wn,)* #(#gn),*))
+    };
+    quote! { let #pattern = #(#branches else)* { #outside }; }
+}
+
 #[derive(Clone, Copy)]
 pub(super) enum Which {
     W,
-    Dw,
     DwOverQ,
 }
 

@@ -2,8 +2,8 @@
 //! token trees with `quote!`, printed with `prettyplease`, and written only
 //! when the bytes change (`files`). `check` mode compares instead of writing.
 //! The kernel's functions come from `eval`; the per-discretisation data
-//! (constants, stencils, eps rows, c0 coefficients) from here, evaluated by
-//! one generic `shearsph::kernel::eps_at`.
+//! (constants, eps rows, c0 coefficients) from here, as data: eps(t, n) is
+//! one generic `shearsph::kernel::eps_at_disc` over them.
 
 mod eval;
 mod files;
@@ -14,7 +14,7 @@ use crate::analysis::{Analysis, DiscAnalysis};
 use crate::c0::DEFAULT_MODEL;
 use crate::compaction::{cell_area, Known};
 use crate::exact::{decimal, Exact};
-use crate::lattice::{max_layer_offset, row_reach, Config, LatticeKind, Neighbour};
+use crate::lattice::{max_layer_offset, row_reach, LatticeKind};
 use crate::poly::parse_decimal;
 use eval::{fused, lanes, piecewise, Which};
 use proc_macro2::{Literal, TokenStream};
@@ -70,16 +70,6 @@ fn derived_float(x: &Float, digits: usize) -> TokenStream {
     quote!(Derived { value: #v, exact: #s, is_exact: false })
 }
 
-fn stencil_tokens(nbs: &[Neighbour]) -> TokenStream {
-    let pts = nbs.iter().map(|n| {
-        let x = lit(n.x.to_f64());
-        let k = n.k as i32;
-        let r2 = lit(n.r2.to_f64());
-        quote!(StencilPoint { x: #x, k: #k, r2: #r2 })
-    });
-    quote!(&[#(#pts),*])
-}
-
 /// One `#[doc]` attribute per line, so prettyplease prints `///` comments.
 fn doc(s: &str) -> TokenStream {
     let lines = s.lines().map(|l| quote!(#[doc = #l]));
@@ -118,29 +108,26 @@ fn c0_tokens(da: &DiscAnalysis, digits: usize) -> (Vec<TokenStream>, Vec<TokenSt
     (models, none)
 }
 
-/// The eps rows of one discretisation, as data for the generic `eps_at`.
-fn eps_lattice_tokens(a: &Analysis, da: &DiscAnalysis) -> TokenStream {
+/// What the generic `eps_at` needs of one discretisation, as data: the
+/// lattice, the rows in reach and the particles of each.
+fn eps_lattice_tokens(a: &Analysis, da: &DiscAnalysis, lattice: &TokenStream) -> TokenStream {
     let disc = &da.disc;
-    let kmax = max_layer_offset(disc, &a.def.support);
-    let dy2 = disc.lattice.dy2();
-    let rows = (-kmax..=kmax).map(|k| {
-        let k32 = k as i32;
-        let ph = lit(disc.lattice.phase0(k).to_f64());
-        let y2 = lit(Rational::from(&dy2 * (k * k)).to_f64());
-        quote!(EpsRow { k: #k32, phase0: #ph, y2: #y2 })
-    });
+    let layers = max_layer_offset(disc, &a.def.support) as i32;
+    let dy2 = lit(disc.lattice.dy2().to_f64());
     let reach = row_reach(disc, &a.def.support) as i32;
     let inv_h2 = lit((Rational::from(1) / disc.h2()).to_f64());
     let area = lit(cell_area(disc).to_f64());
-    quote!(EpsLattice { rows: &[#(#rows),*], reach: #reach, inv_h2: #inv_h2, area: #area })
+    quote!(EpsLattice { lattice: #lattice, layers: #layers, dy2: #dy2, reach: #reach, inv_h2: #inv_h2, area: #area })
 }
 
-/// One discretisation's `DiscretisationInfo` and its `eps_at` function.
+/// One discretisation's `DiscretisationInfo`, entry `index` of the kernel's:
+/// data, and the one generic `eps_at_disc` for its eps(t, n).
 fn disc_tokens(
     a: &Analysis,
     da: &DiscAnalysis,
     ty: &proc_macro2::Ident,
-) -> (TokenStream, TokenStream) {
+    index: usize,
+) -> TokenStream {
     let disc = &da.disc;
     let lattice = match disc.lattice {
         LatticeKind::Triangular => quote!(Lattice::Triangular),
@@ -165,28 +152,8 @@ fn disc_tokens(
     let symmetric = cc.symmetric.is_some();
     let label = &cc.label;
     let (models, none) = c0_tokens(da, a.digits);
-    let st0 = stencil_tokens(&da.terms_t0.iter().map(|t| t.nb.clone()).collect::<Vec<_>>());
-    let sth = stencil_tokens(
-        &da.terms_half
-            .iter()
-            .map(|t| t.nb.clone())
-            .collect::<Vec<_>>(),
-    );
-    let lat = eps_lattice_tokens(a, da);
-    let lat_name = format_ident!("EPS_{}", disc.ident().to_uppercase());
-    let fn_name = format_ident!("eps_at_{}", disc.ident());
-    let fn_doc = doc(&format!(
-        " eps(t, n) on the {} discretisation; see `shearsph::kernel::eps_at`.",
-        disc.label()
-    ));
-    let item = quote! {
-        const #lat_name: EpsLattice = #lat;
-        #fn_doc
-        pub fn #fn_name(t: f64, n: u32, walls: Option<u32>) -> f64 {
-            eps_at::<#ty>(&#lat_name, t, n, walls)
-        }
-    };
-    let info = quote! {
+    let lat = eps_lattice_tokens(a, da, &lattice);
+    quote! {
         DiscretisationInfo {
             lattice: #lattice,
             h_over_d: #h,
@@ -196,28 +163,20 @@ fn disc_tokens(
             c0_configuration: C0Configuration { t: #ct, eps0: #ce, symmetric: #symmetric, label: #label },
             c0_models: &[#(#models),*],
             no_c0: &[#(#none),*],
-            stencil_t0: #st0,
-            stencil_half: #sth,
-            eps_lattice: #lat_name,
-            eps_at: #fn_name,
+            eps_lattice: #lat,
+            eps_at: eps_at_disc::<#ty, #index>,
         }
-    };
-    (item, info)
+    }
 }
 
 /// `impl Kernel for Type`: the kernel's functions.
 fn kernel_impl(a: &Analysis, ty: &proc_macro2::Ident) -> (TokenStream, u32) {
     let d = &a.def;
     let name = &d.name;
-    let support = lit(d.support.to_f64());
     let support2_closed = lit(Rational::from(&d.support * &d.support).to_f64() * (1.0 + 1e-9));
     let (w_body, _) = piecewise(&d.w, Which::W);
-    let (dw_body, _) = piecewise(&d.dw, Which::Dw);
-    let (dwq_body, _) = piecewise(&d.dw, Which::DwOverQ);
     // the solver evaluates W and (dW/dq)/q of a pair together, in lanes
-    let (fused_body, fused_flops) = fused(&d.w, &d.dw);
-    let (lanes_body, flops) =
-        lanes(&d.w, &d.dw).unwrap_or((quote!(Self::w_dw_over_q(q2)), fused_flops));
+    let (pair_body, flops) = lanes(&d.w, &d.dw).unwrap_or_else(|| fused(&d.w, &d.dw));
     let pieces = |r: &crate::kernel::Radial| {
         r.pieces
             .iter()
@@ -228,8 +187,8 @@ fn kernel_impl(a: &Analysis, ty: &proc_macro2::Ident) -> (TokenStream, u32) {
         " W(q), q^2 = `q2`, units h^-2. Pieces (exact):\n{}",
         pieces(&d.w)
     ));
-    let doc_dw = doc(&format!(
-        " dW/dq ({}), units h^-3. Pieces (exact):\n{}",
+    let doc_pair = doc(&format!(
+        " (W, (dW/dq)/q) of a pair, units h^-2 and h^-4, as the solver's pair loops take it. dW/dq ({}), pieces (exact):\n{}",
         if d.dw_given {
             "given separately"
         } else {
@@ -240,7 +199,6 @@ fn kernel_impl(a: &Analysis, ty: &proc_macro2::Ident) -> (TokenStream, u32) {
     let tokens = quote! {
         impl Kernel for #ty {
             const NAME: &'static str = #name;
-            const SUPPORT: f64 = #support;
             const SUPPORT2_CLOSED: f64 = #support2_closed;
             const INFO: &'static KernelInfo = &INFO;
 
@@ -248,21 +206,9 @@ fn kernel_impl(a: &Analysis, ty: &proc_macro2::Ident) -> (TokenStream, u32) {
             #[inline(always)]
             fn w(q2: f64) -> f64 { #w_body }
 
-            #doc_dw
+            #doc_pair
             #[inline(always)]
-            fn dw(q2: f64) -> f64 { #dw_body }
-
-            #[doc = " (dW/dq)/q, units h^-4."]
-            #[inline(always)]
-            fn dw_over_q(q2: f64) -> f64 { #dwq_body }
-
-            #[doc = " (W, (dW/dq)/q) together: one branch, square root and shifted variable for both."]
-            #[inline(always)]
-            fn w_dw_over_q(q2: f64) -> (f64, f64) { #fused_body }
-
-            #[doc = " (W, (dW/dq)/q) without branches, for pair loops in vector lanes."]
-            #[inline(always)]
-            fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) { #lanes_body }
+            fn w_dw_over_q_lanes(q2: f64) -> (f64, f64) { #pair_body }
         }
     };
     (tokens, flops)
@@ -298,18 +244,20 @@ pub fn kernel_module(a: &Analysis) -> String {
     let support_exact = d.support.to_string();
     let (kernel_impl, flops) = kernel_impl(a, &ty);
     let (printed, printed_eps) = printed_tokens(a);
-    let (items, infos): (Vec<_>, Vec<_>) = a.discs.iter().map(|da| disc_tokens(a, da, &ty)).unzip();
+    let infos = a
+        .discs
+        .iter()
+        .enumerate()
+        .map(|(i, da)| disc_tokens(a, da, &ty, i));
     let n_discs = a.discs.len();
-    let paper_eps_at = format_ident!("eps_at_{}", a.paper().disc.ident());
     let mut uses = vec![
-        quote!(eps_at),
+        quote!(eps_at_disc),
         quote!(C0Configuration),
         quote!(C0Model),
         quote!(Derived),
         quote!(DiscretisationInfo),
         quote!(EpsInfo),
         quote!(EpsLattice),
-        quote!(EpsRow),
         quote!(Kernel),
         quote!(KernelInfo),
         quote!(Lattice),
@@ -326,7 +274,6 @@ pub fn kernel_module(a: &Analysis) -> String {
     if d.paper.is_some() {
         uses.push(quote!(PrintedEps));
     }
-    uses.push(quote!(StencilPoint));
     let doc_struct = doc(&format!(" {title}.\n\n Reference: {reference}.\n\n Support R = {support_exact} h. Generated from `kernels/{name}.toml`."));
     let default_model = DEFAULT_MODEL;
     let tokens = quote! {
@@ -337,8 +284,6 @@ pub fn kernel_module(a: &Analysis) -> String {
         pub struct #ty;
 
         #kernel_impl
-
-        #(#items)*
 
         /// The derivation on every discretisation of `kernels/discretisations.toml`, the paper's first.
         pub const DISCRETISATIONS: [DiscretisationInfo; #n_discs] = [#(#infos),*];
@@ -355,15 +300,12 @@ pub fn kernel_module(a: &Analysis) -> String {
             c0_default: #default_model,
             c0_models: DISCRETISATIONS[0].c0_models,
             printed_c0: #printed,
-            stencil_t0: DISCRETISATIONS[0].stencil_t0,
-            stencil_half: DISCRETISATIONS[0].stencil_half,
-            eps_at: #paper_eps_at,
+            eps_at: DISCRETISATIONS[0].eps_at,
             printed_eps: #printed_eps,
             discretisations: &DISCRETISATIONS,
             flops_per_pair: #flops,
         };
     };
-    let _ = Config::T0;
     format_file(tokens, &format!("kernels/{}.toml", name))
 }
 
