@@ -81,6 +81,20 @@ impl Point {
         )
     }
 
+    /// [`Point::scene`] with the bounds that classify its run set from the
+    /// sweep's `[classes]`: the scene's `linf_bound` and `eps_margin`, the
+    /// one place a run's class is judged from, for `run` and a sweep alike.
+    pub fn scene_classed(
+        &self,
+        base: &toml::Table,
+        rules: &ClassRules,
+    ) -> Result<Scene, SceneError> {
+        let mut scene = self.scene(base)?;
+        scene.linf_bound = rules.linf_bound;
+        scene.eps_margin = rules.eps_margin;
+        Ok(scene)
+    }
+
     /// The scene: the built-in one, `base` over it, then this point's values.
     pub fn scene(&self, base: &toml::Table) -> Result<Scene, SceneError> {
         use toml::Value;
@@ -255,7 +269,7 @@ impl SweepSpec {
             bail!("sweep field `n` (flag --n): 0 is not a number of layers; give N >= 1");
         }
         self.resolve_discretisations()?;
-        self.check_starts()?;
+        self.check_by_scene()?;
         // A repeated value would run (and count) one point twice: an error,
         // for every list alike.
         fn dup<T: PartialEq + std::fmt::Debug>(field: &str, v: &[T]) -> Result<()> {
@@ -278,20 +292,6 @@ impl SweepSpec {
         dup("lattice", &self.lattice)?;
         dup("h_over_d", &self.h_over_d)?;
         dup("jitter", &self.jitter)?;
-        let b = self.classes.linf_bound;
-        if !(b > 0.0 && b.is_finite()) {
-            bail!(
-                "sweep field `classes.linf_bound` (flag --linf-bound): {} must be a positive finite L_inf error / U",
-                crate::format::fmt_value(b)
-            );
-        }
-        let m = self.classes.eps_margin;
-        if !(m >= 0.0 && m.is_finite()) {
-            bail!(
-                "sweep field `classes.eps_margin` (flag --eps-margin): {} must be a finite compaction >= 0",
-                crate::format::fmt_value(m)
-            );
-        }
         for (key, instead) in [
             ("kernel", "kernels"),
             ("n_layers", "n"),
@@ -303,6 +303,8 @@ impl SweepSpec {
             ("h_over_d", "h_over_d"),
             ("jitter", "jitter"),
             ("jitter_seed", "seeds"),
+            ("linf_bound", "classes.linf_bound"),
+            ("eps_margin", "classes.eps_margin"),
         ] {
             if self.scene.contains_key(key) {
                 bail!(
@@ -340,11 +342,19 @@ impl SweepSpec {
         Ok(())
     }
 
-    /// Every jitter amplitude by the scene's own guard, and seeds for the
-    /// non-zero ones.
-    fn check_starts(&self) -> Result<()> {
+    /// The values the scene guards, by its own guards: the class bounds
+    /// (they become the scene's `linf_bound` and `eps_margin`) and every
+    /// jitter amplitude; and seeds for the non-zero amplitudes.
+    fn check_by_scene(&self) -> Result<()> {
         let base = Scene::load(None, self.scene.clone())
             .context("sweep field `scene` does not make a valid scene")?;
+        // The bounds are the scene's (`scene_classed`): its guards.
+        crate::problem::check_fields(&Scene {
+            linf_bound: self.classes.linf_bound,
+            eps_margin: self.classes.eps_margin,
+            ..base.clone()
+        })
+        .context("sweep field `classes`")?;
         for &a in &self.jitter {
             crate::problem::check_fields(&Scene {
                 jitter: a,

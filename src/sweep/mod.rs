@@ -110,7 +110,7 @@ pub fn run_point_with(
     if stop.load(Ordering::Relaxed) {
         return None;
     }
-    let scene = match point.scene(base) {
+    let scene = match point.scene_classed(base, rules) {
         Ok(s) => s,
         Err(e) => {
             return Some(Row::not_run(
@@ -181,7 +181,7 @@ pub fn run_point_with(
     match result {
         // Stopped before the end: no row, so a resumed sweep reruns it.
         Ok(Ok(r)) if matches!(r.outcome, solver::Outcome::Interrupted { .. }) => None,
-        Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
+        Ok(Ok(r)) => Some(Row::from_run(point, &r)),
         Ok(Err(e)) => Some(Row::not_run(
             point,
             FailureKind::Scene,

@@ -38,7 +38,7 @@ pub fn read_rows(path: &Path) -> Result<Vec<Row>> {
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(i, line)| {
-            serde_json::from_str(line).with_context(|| {
+            Row::from_json(line).with_context(|| {
                 format!(
                     "{} line {}: not a sweep row; the file was edited or is from another version \
                      (remove the line, or restart the sweep with --force)",
@@ -151,7 +151,8 @@ fn csv_fields(r: &Row) -> Vec<String> {
         f(r.l2),
         f(r.max_eps),
         f(r.eps_bound),
-        f(r.rms_v),
+        // relative to U, as the column always was
+        f(r.rms_v / r.u),
         r.steps.to_string(),
         r.dt_limit_dominant
             .map(|l| l.name())
