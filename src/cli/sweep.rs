@@ -374,12 +374,42 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
     let (Some(&n), Some(&alpha)) = (spec.n.first(), spec.alpha.first()) else {
         return Ok(());
     };
+    // The map is drawn at the grid's first N, alpha, discretisation and
+    // jitter amplitude (by grid position, not by value); a jittered
+    // point's cell is its worst over the seeds.
+    let Some(disc) = spec.points().first().map(|p| (p.disc, p.start)) else {
+        return Ok(());
+    };
+    let mut base = spec.scene.clone();
+    base.insert("lattice".into(), disc.0.lattice.name().into());
+    base.insert("h_over_d".into(), disc.0.h_over_d.to_string().into());
+    let mut what = String::new();
+    if disc.0 != sweep::Discretisation::PAPER {
+        what = format!(
+            ", {} lattice, h = {} d",
+            disc.0.lattice.name(),
+            disc.0.h_over_d
+        );
+    }
+    if let sweep::Start::Jittered { amplitude, .. } = disc.1 {
+        what.push_str(&format!(
+            ", jitter {amplitude} d, worst of {} seeds",
+            spec.seeds
+        ));
+    }
     for (kernel, krows) in charts::by_kernel(rows) {
-        let here: Vec<&Row> = krows
+        let first: Vec<Row> = krows
             .into_iter()
             .filter(|r| {
-                r.n == n && r.alpha == alpha && r.c0_over_u.is_finite() && r.c0_over_u > 0.0
+                let a = r.at;
+                (a.n, a.alpha, a.lattice, a.h_over_d, a.jitter) == (0, 0, 0, 0, 0)
             })
+            .cloned()
+            .collect();
+        let here: Vec<&Row> = sweep::worst_over_seeds(&first)
+            .into_iter()
+            .map(|g| g.worst)
+            .filter(|r| r.c0_over_u.is_finite() && r.c0_over_u > 0.0)
             .collect();
         let mut c0s: Vec<f64> = here.iter().map(|r| r.c0_over_u).collect();
         c0s.sort_by(f64::total_cmp);
@@ -389,8 +419,9 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
         }
         let cells = report::map_cells(&here);
         let res: Vec<f64> = here.iter().map(|r| r.re).collect();
-        let lines = report::rule_lines(&kernel, &spec.scene, n, alpha, &res)?;
-        let title = format!("{kernel}: outcome over c0 / U and Re (N = {n}, alpha = {alpha})");
+        let lines = report::rule_lines(&kernel, &base, n, alpha, &res)?;
+        let title =
+            format!("{kernel}: outcome over c0 / U and Re (N = {n}, alpha = {alpha}{what})");
         write_atomic(
             &dir.join(format!("stability_{kernel}.csv")),
             charts::map_csv(&kernel, &cells).as_bytes(),

@@ -105,14 +105,18 @@ impl Point {
         over.remove("p");
         over.insert("re".into(), Value::Float(self.re));
         over.insert("alpha".into(), Value::Float(self.alpha));
-        over.insert(
-            "lattice".into(),
-            Value::String(self.disc.lattice.name().into()),
-        );
-        over.insert(
-            "h_over_d".into(),
-            Value::String(self.disc.h_over_d.to_string()),
-        );
+        // The paper's discretisation is the built-in scene's: `base` may
+        // name another (a report's scene; a sweep refuses it in `scene`).
+        if self.disc != Discretisation::PAPER {
+            over.insert(
+                "lattice".into(),
+                Value::String(self.disc.lattice.name().into()),
+            );
+            over.insert(
+                "h_over_d".into(),
+                Value::String(self.disc.h_over_d.to_string()),
+            );
+        }
         if let Start::Jittered { amplitude, seed } = self.start {
             over.insert("jitter".into(), Value::Float(amplitude));
             over.insert("jitter_seed".into(), Value::Integer(seed.into()));

@@ -1,6 +1,7 @@
-//! Many scenes in parallel: a grid of points (kernels x N x Re x alpha x c0),
-//! each run once, classified, and kept as one row. `shearsph sweep` and the
-//! report both run their scenes through here.
+//! Many scenes in parallel: a grid of points (kernels x discretisation x N x
+//! Re x alpha x start x c0), each run once, classified by its scene's bounds,
+//! and kept as one row (the point's key and the run's summary). `shearsph
+//! sweep` and the report both run their scenes through here.
 //!
 //! - A point is keyed by a stable id (`monaghan/n=10/re=30/alpha=0.1/c0=rule10`),
 //!   so a finished point is never rerun: a sweep resumes where it stopped.
