@@ -146,6 +146,24 @@ fn a_main_era_results_jsonl_resumes() {
     // every row now in the file reads back in the new format too
     let rows = store::read_rows(&dir.path().join(JSONL_FILE)).unwrap();
     assert_eq!(rows.len(), 4);
+    // the same grid given again (as flags would) is the sweep the old
+    // sweep.toml holds: the new axes' defaults are what it ran
+    let same = SweepSpec::from_toml(
+        r#"
+        kernels = ["monaghan", "morris"]
+        n = [8]
+        re = [1.0]
+        c0 = ["derived", "rule10"]
+        [scene]
+        t_end = 2.0
+        "#,
+        "test",
+    )
+    .unwrap()
+    .resolved()
+    .unwrap();
+    let r = run(dir.path(), Some(same));
+    assert_eq!((r.already, r.ran), (4, 0));
 }
 
 #[test]
