@@ -20,13 +20,15 @@
 pub mod axes;
 mod grid;
 mod row;
+mod shard;
 pub mod store;
 
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
 pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
-pub use grid::{Point, PointC0, Shard, SweepSpec};
+pub use grid::{Point, PointC0, SweepSpec};
 pub use row::{worst_over_seeds, OverSeeds, Row};
+pub use shard::Shard;
 
 use std::collections::BTreeSet;
 use std::panic::{self, AssertUnwindSafe};
