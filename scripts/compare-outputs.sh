@@ -17,8 +17,13 @@
 # scene.toml, the SVG charts, the JSON on stdout, stderr and the exit status
 # of each run: the default scene of `morris` has no positive derived root and
 # must fail the same way) is compared with cmp.
-#   - a small `sweep` (its results.jsonl rows, sorted, `dt_limit` read as
-#     `dt_limit_dominant`, the row field's name since issue 12),
+#   - a small `sweep` (its results.jsonl rows, sorted, each in the flat
+#     layout rows had before issue 12 made a row its key plus the run's
+#     summary: see row.jq below; `dt_limit` read as `dt_limit_dominant`),
+# summary.json and `run --json` gained c0_over_u, dt_limit_dominant,
+# particle_steps and failure_kind (the fields a sweep row had and a summary
+# lacked, issue 12): they are dropped before the comparison, so the fields
+# both write are compared.
 # Ignored, because they are wall-clock measurements and differ between any
 # two runs of the same binary: the fields `wall_s` and `particle_steps_per_s`
 # of summary.json and of `run --json`, and `wall_s` of the sweep's rows (set
@@ -71,6 +76,29 @@ scenes() {
     echo "steady-jitter --kernel morris --c0 2*rule10 --initial steady --jitter 0.01 --n 8"
 }
 
+# A sweep row in the layout of the rows before issue 12 (a flat row of its
+# own fields), whatever the layout it was written in: since issue 12 a row is
+# its point's key and the run's summary flattened, with summary.json's names
+# (n_layers, linf_rel_err, l2_rel_err, linf_rel_err_max), an absolute rms_v
+# (the old row's was relative to U) and failure_reason without the
+# " (t = ...)" the old row appended (failure_t holds it). The new axes'
+# fields (lattice, h_over_d, jitter, seed) are kept only when not the
+# defaults every old row had; the summary's other fields are not compared.
+cat >"$work/row.jq" <<'JQ'
+(if has("outcome") then
+    with_entries(.key |= ({"n_layers": "n", "linf_rel_err": "linf", "l2_rel_err": "l2",
+                           "linf_rel_err_max": "linf_max"}[.] // .))
+    | .rms_v = (if .rms_v == null or .u == null then null else .rms_v / .u end)
+ else with_entries(if .key == "dt_limit" then .key = "dt_limit_dominant" else . end) end)
+| .new_axes = ([.lattice // "triangular", .h_over_d // "1", .jitter // 0, .seed // 0]
+               | if . == ["triangular", "1", 0, 0] then null else . end)
+| .failure_reason |= (if . == null then . else sub(" \\(t = [-0-9.e+]+\\)$"; "") end)
+| .wall_s = 0
+| {index, id, kernel, n, re, alpha, c0_spec, c0_rule, c0, c0_over_u, class, failure_kind,
+   failure_reason, linf, linf_max, l2, max_eps, eps_bound, rms_v, steps, dt_limit_dominant, dt,
+   particles, particle_steps, t_end, t, wall_s, new_axes}
+JQ
+
 produce() { # BIN DIR
     local bin=$1 dir=$2
     mkdir -p "$dir"
@@ -85,8 +113,7 @@ produce() { # BIN DIR
     "$bin" sweep --kernel monaghan,morris,composite --n 8 --re 1,30 --c0 derived,rule10,table2 \
         --c0-over-u 0.02,1 --t-end 20 --jobs 2 --quiet --no-charts --out "$dir/sweep" \
         >/dev/null 2>"$dir/sweep.stderr" || echo "exit $?" >"$dir/sweep.status"
-    jq -c -S 'with_entries(if .key == "dt_limit" then .key = "dt_limit_dominant" else . end)
-        | .wall_s = 0' "$dir/sweep/results.jsonl" | sort -t: -k2 >"$dir/sweep-rows.jsonl"
+    jq -c -S -f "$work/row.jq" "$dir/sweep/results.jsonl" | sort -t: -k2 >"$dir/sweep-rows.jsonl"
     rm -rf "$dir/sweep"
     scenes | while read -r name flags; do
         # shellcheck disable=SC2086
@@ -94,7 +121,9 @@ produce() { # BIN DIR
             || echo "exit $?" >"$dir/$name.status"
         for f in "$dir/$name/summary.json" "$dir/$name.stdout.json"; do
             if [[ -s "$f" ]]; then
-                jq -S '.wall_s = 0 | .particle_steps_per_s = 0' "$f" >"$f.norm" && mv "$f.norm" "$f"
+                jq -S '.wall_s = 0 | .particle_steps_per_s = 0
+                    | del(.c0_over_u, .dt_limit_dominant, .particle_steps, .failure_kind)' "$f" >"$f.norm" \
+                    && mv "$f.norm" "$f"
             fi
         done
     done

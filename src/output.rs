@@ -8,76 +8,128 @@
 use std::fmt::Write as _;
 
 use anyhow::Result;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 pub mod atomic;
 pub use atomic::{prepare_dir, write_atomic, StagedSet};
 
-use crate::solver::{Class, DtLimitSteps, Outcome, Particle, RunResult, Sample};
+use crate::problem::cost::DtLimit;
+use crate::solver::{Class, DtLimitSteps, FailureKind, Outcome, Particle, RunResult, Sample};
 
-/// The figures of one run, as `summary.json` and `shearsph run --json`.
-#[derive(Debug, Clone, Serialize)]
+/// The figures of one run, as `summary.json` and `shearsph run --json`, and
+/// the part of a sweep's row that is not the point's key (a row is its point
+/// plus this, flattened): one result type from the solver to the report.
+/// Read back with every field optional (a row written before a field existed
+/// gets its default: NaN, 0 or none); non-finite numbers are written as JSON
+/// `null` and read back as NaN. The JSON names are summary.json's; the names
+/// rows had before they were summaries (`n`, `linf`, `l2`, `linf_max`) are
+/// read as aliases.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Summary {
     pub kernel: String,
-    pub n_layers: u32,
+    #[serde(rename = "n_layers", alias = "n")]
+    pub n: u32,
     /// All particles, fluid and wall.
     pub particles: usize,
     pub fluid_particles: usize,
     pub wall_particles: usize,
+    #[serde(with = "nan_null")]
     pub d: f64,
+    #[serde(with = "nan_null")]
     pub h: f64,
     /// Half-width B = N dy.
+    #[serde(with = "nan_null")]
     pub b: f64,
+    #[serde(with = "nan_null")]
     pub u: f64,
+    /// The Reynolds number the scene gave (U B / nu when it gave p).
+    #[serde(with = "nan_null")]
     pub re: f64,
+    #[serde(with = "nan_null")]
     pub nu: f64,
+    #[serde(with = "nan_null")]
     pub p: f64,
+    #[serde(with = "nan_null")]
     pub alpha: f64,
     pub initial: crate::config::Initial,
+    #[serde(with = "nan_null")]
     pub t_end: f64,
     /// Time reached (below t_end when the run failed or was interrupted).
+    #[serde(with = "nan_null")]
     pub t: f64,
     pub steps: u64,
     /// The last full step's dt and the limit that bound it (the limit that
-    /// bound the most steps is results.csv's `dt_limit_dominant`).
+    /// bound the most steps is `dt_limit_dominant`).
+    #[serde(with = "nan_null")]
     pub dt: f64,
-    pub dt_limit: crate::problem::cost::DtLimit,
+    pub dt_limit: Option<DtLimit>,
+    #[serde(with = "nan_null")]
     pub dt_min: f64,
+    #[serde(with = "nan_null")]
     pub dt_max: f64,
     /// Steps bound by each limit.
     pub dt_limit_steps: DtLimitSteps,
+    /// The limit that bound the most steps (`dt_limit` in rows written
+    /// before the two were told apart).
+    pub dt_limit_dominant: Option<DtLimit>,
+    /// The sound speed (NaN when the rule gives none), its rule as resolved
+    /// (`derived:field-av`, `rule10`, `value`) and c0 / U.
+    #[serde(with = "nan_null")]
     pub c0: f64,
     pub c0_rule: String,
+    #[serde(with = "nan_null")]
+    pub c0_over_u: f64,
+    #[serde(with = "nan_null")]
     pub wall_s: f64,
     /// Particles (fluid and wall) times steps per wall-clock second.
+    #[serde(with = "nan_null")]
     pub particle_steps_per_s: f64,
+    /// particles x steps: the work, independent of the machine.
+    pub particle_steps: f64,
     /// Errors of the layer-mean velocity relative to U at the end, against
     /// the start-up series (from rest) or (7) (from the steady profile).
-    pub linf_rel_err: f64,
-    pub l2_rel_err: f64,
-    /// Largest L_inf error over the output times.
-    pub linf_rel_err_max: f64,
+    #[serde(rename = "linf_rel_err", alias = "linf", with = "nan_null")]
+    pub linf: f64,
+    #[serde(rename = "l2_rel_err", alias = "l2", with = "nan_null")]
+    pub l2: f64,
+    /// Largest L_inf error over the output times (what `inaccurate` is
+    /// judged by).
+    #[serde(rename = "linf_rel_err_max", alias = "linf_max", with = "nan_null")]
+    pub linf_max: f64,
     /// Largest fluid compaction over every step of the run.
+    #[serde(with = "nan_null")]
     pub max_eps: f64,
     /// Mean fluid compaction at the end.
+    #[serde(with = "nan_null")]
     pub mean_eps: f64,
     /// RMS transverse velocity of the fluid at the end.
+    #[serde(with = "nan_null")]
     pub rms_v: f64,
+    #[serde(with = "nan_null")]
     pub kinetic_energy: f64,
     pub neighbour_rebuilds: u64,
     /// Mean neighbour-list length (R h + skin) per particle, at the start.
+    #[serde(with = "nan_null")]
     pub mean_neighbours: f64,
     /// `ok`, `failed` or `interrupted` (stopped early, e.g. by Ctrl-C; `t`
-    /// and `steps` say where).
-    pub outcome: &'static str,
-    /// The class the sweep gives the same run: `ok`, `inaccurate`,
-    /// `over-compressed` or `failed`, by the scene's bounds below.
+    /// and `steps` say where); `not_run` for a sweep's point that did not
+    /// reach the solver.
+    pub outcome: String,
+    /// `ok`, `inaccurate`, `over-compressed` or `failed`, by the scene's
+    /// bounds below: one class for `run`, the sweep and the report.
     pub class: Class,
     /// Inaccurate above this L_inf error (relative to U) over the outputs.
+    #[serde(with = "nan_null")]
     pub linf_bound: f64,
     /// Over-compressed above this compaction (the kernel's eps0 plus the
     /// scene's eps_margin).
+    #[serde(with = "nan_null")]
     pub eps_bound: f64,
+    /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
+    /// scene is invalid), `panic`, `interrupted`, or the solver's failure
+    /// (`not_finite`, `speed`, `through_wall`, `compaction`).
+    pub failure_kind: Option<FailureKind>,
     pub failure_reason: Option<String>,
     pub failure_t: Option<f64>,
     pub failure_step: Option<u64>,
@@ -85,29 +137,117 @@ pub struct Summary {
     pub failure_particle: Option<Particle>,
 }
 
+impl Default for Summary {
+    /// Nothing run: NaN numbers, no counts, class `failed`.
+    fn default() -> Summary {
+        Summary {
+            kernel: String::new(),
+            n: 0,
+            particles: 0,
+            fluid_particles: 0,
+            wall_particles: 0,
+            d: f64::NAN,
+            h: f64::NAN,
+            b: f64::NAN,
+            u: f64::NAN,
+            re: f64::NAN,
+            nu: f64::NAN,
+            p: f64::NAN,
+            alpha: f64::NAN,
+            initial: Default::default(),
+            t_end: f64::NAN,
+            t: 0.0,
+            steps: 0,
+            dt: f64::NAN,
+            dt_limit: None,
+            dt_min: f64::NAN,
+            dt_max: f64::NAN,
+            dt_limit_steps: DtLimitSteps::default(),
+            dt_limit_dominant: None,
+            c0: f64::NAN,
+            c0_rule: String::new(),
+            c0_over_u: f64::NAN,
+            wall_s: 0.0,
+            particle_steps_per_s: 0.0,
+            particle_steps: 0.0,
+            linf: f64::NAN,
+            l2: f64::NAN,
+            linf_max: f64::NAN,
+            max_eps: f64::NAN,
+            mean_eps: f64::NAN,
+            rms_v: f64::NAN,
+            kinetic_energy: f64::NAN,
+            neighbour_rebuilds: 0,
+            mean_neighbours: f64::NAN,
+            outcome: "not_run".into(),
+            class: Class::Failed,
+            linf_bound: f64::NAN,
+            eps_bound: f64::NAN,
+            failure_kind: None,
+            failure_reason: None,
+            failure_t: None,
+            failure_step: None,
+            failure_particle: None,
+        }
+    }
+}
+
+/// f64 fields in JSON: non-finite values as `null`, `null` read as NaN.
+pub mod nan_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() {
+            s.serialize_f64(*v)
+        } else {
+            s.serialize_none()
+        }
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+    }
+}
+
 impl Summary {
     pub fn new(r: &RunResult) -> Summary {
         let pr = &r.problem;
         let last = r.last();
-        let (failure_reason, failure_t, failure_step, failure_particle) = match &r.outcome {
-            Outcome::Ok | Outcome::Interrupted { .. } => (None, None, None, None),
-            Outcome::Failed {
-                failure,
-                t,
-                step,
-                particle,
-            } => (
-                Some(failure.to_string()),
-                Some(*t),
-                Some(*step),
-                Some(*particle),
-            ),
-        };
-        let particles = r.particles();
         let rules = pr.scene.classes();
+        let class = r.class(&rules);
+        let (failure_kind, failure_reason, failure_t, failure_step, failure_particle) =
+            match &r.outcome {
+                Outcome::Failed {
+                    failure,
+                    t,
+                    step,
+                    particle,
+                } => (
+                    Some(failure.kind()),
+                    Some(failure.to_string()),
+                    Some(*t),
+                    Some(*step),
+                    Some(*particle),
+                ),
+                Outcome::Interrupted { .. } => (
+                    Some(FailureKind::Interrupted),
+                    Some("stopped before the end".to_string()),
+                    None,
+                    None,
+                    None,
+                ),
+                // failed by its numbers: an error or a compaction not finite
+                Outcome::Ok if class == Class::Failed => (
+                    Some(FailureKind::NotFinite),
+                    Some("the velocity error is not finite".to_string()),
+                    None,
+                    None,
+                    None,
+                ),
+                Outcome::Ok => (None, None, None, None, None),
+            };
+        let particles = r.particles();
         Summary {
             kernel: r.kernel.to_string(),
-            n_layers: pr.lattice.n_layers,
+            n: pr.lattice.n_layers,
             particles,
             fluid_particles: r.n_fluid,
             wall_particles: r.n_wall,
@@ -115,7 +255,7 @@ impl Summary {
             h: pr.lattice.h,
             b: pr.flow.b,
             u: pr.flow.u,
-            re: pr.re,
+            re: pr.scene.re.unwrap_or(pr.re),
             nu: pr.flow.nu,
             p: pr.flow.p,
             alpha: pr.alpha,
@@ -124,27 +264,31 @@ impl Summary {
             t: r.t,
             steps: r.steps,
             dt: r.dt.last,
-            dt_limit: r.dt.last_limit,
+            dt_limit: Some(r.dt.last_limit),
             dt_min: r.dt.min.min(r.dt.last),
             dt_max: r.dt.max.max(r.dt.last),
             dt_limit_steps: r.dt.steps,
+            dt_limit_dominant: Some(r.dt.dominant()),
             c0: pr.c0,
             c0_rule: pr.c0_rule.clone(),
+            c0_over_u: pr.c0 / pr.flow.u,
             wall_s: r.wall_s,
             particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
-            linf_rel_err: last.linf_rel_err,
-            l2_rel_err: last.l2_rel_err,
-            linf_rel_err_max: r.linf_rel_err_max(),
+            particle_steps: particles as f64 * r.steps as f64,
+            linf: last.linf_rel_err,
+            l2: last.l2_rel_err,
+            linf_max: r.linf_rel_err_max(),
             max_eps: r.max_eps_run,
             mean_eps: last.mean_eps,
             rms_v: last.rms_v,
             kinetic_energy: last.kinetic_energy,
             neighbour_rebuilds: r.neighbour_rebuilds,
             mean_neighbours: r.mean_neighbours,
-            outcome: r.outcome.status(),
-            class: r.class(&rules),
+            outcome: r.outcome.status().to_string(),
+            class,
             linf_bound: rules.linf_bound,
             eps_bound: r.eps_bound(&rules),
+            failure_kind,
             failure_reason,
             failure_t,
             failure_step,

@@ -194,7 +194,7 @@ pub fn exit_code(class: Class) -> ExitCode {
 fn print_summary(s: &Summary, outcome: &Outcome, class: Class, out: &std::path::Path) {
     println!(
         "{} N = {} ({} particles), Re = {:.4}, U = {}, alpha = {}",
-        s.kernel, s.n_layers, s.particles, s.re, s.u, s.alpha
+        s.kernel, s.n, s.particles, s.re, s.u, s.alpha
     );
     println!(
         "c0 = {:.6} ({}), c0 / U = {:.4}",
@@ -208,14 +208,14 @@ fn print_summary(s: &Summary, outcome: &Outcome, class: Class, out: &std::path::
         s.t_end,
         s.steps,
         s.dt,
-        s.dt_limit.name(),
+        s.dt_limit.map_or("none", |l| l.name()),
         s.wall_s,
         s.particle_steps_per_s
     );
     println!(
         "error / U: Linf = {:.4e}, L2 = {:.4e}; max eps = {:.4e}, mean eps = {:.4e}, RMS v / U = {:.4e}",
-        s.linf_rel_err,
-        s.l2_rel_err,
+        s.linf,
+        s.l2,
         s.max_eps,
         s.mean_eps,
         s.rms_v / s.u

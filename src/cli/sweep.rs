@@ -21,7 +21,7 @@ use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
 /// Run a grid of scenes in parallel, or merge shard folders.
 ///
 /// The grid comes from --sweep FILE (TOML: kernels, n, re, alpha, c0,
-/// c0_over_u, [classes], [scene]) and/or the flags (lists, comma-separated;
+/// c0_over_u, lattice, h_over_d, jitter, seeds, [classes], [scene]) and/or the flags (lists, comma-separated;
 /// a flag replaces the file's list). With neither, the folder's own sweep is
 /// resumed (or the default grid started). A finished point is never rerun.
 #[derive(Debug, Args)]
@@ -84,6 +84,20 @@ pub struct RunSweepArgs {
     /// Sound speeds as multiples of U.
     #[arg(long, value_delimiter = ',')]
     pub c0_over_u: Vec<f64>,
+    /// Starting lattices: triangular (the paper's, default), square.
+    #[arg(long, value_delimiter = ',')]
+    pub lattice: Vec<crate::kernel::Lattice>,
+    /// h/d values, numbers or exact rationals (1, 13/10; default 1); each
+    /// lattice x h/d must be generated for every kernel.
+    #[arg(long, value_delimiter = ',')]
+    pub h_over_d: Vec<sweep::HOverDValue>,
+    /// Jitter amplitudes of the start in d (default 0: the perfect lattice).
+    #[arg(long, value_delimiter = ',')]
+    pub jitter: Vec<f64>,
+    /// Seeds per non-zero jitter amplitude (seeds 1..=K, default 3); a
+    /// perturbed point's outcome is its worst over them.
+    #[arg(long, value_name = "K")]
+    pub seeds: Option<u32>,
     /// A scene file whose fields every point starts from (the grid's win).
     #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
@@ -136,6 +150,10 @@ impl RunSweepArgs {
             || !self.alpha.is_empty()
             || !self.c0.is_empty()
             || !self.c0_over_u.is_empty()
+            || !self.lattice.is_empty()
+            || !self.h_over_d.is_empty()
+            || !self.jitter.is_empty()
+            || self.seeds.is_some()
             || self.scene.is_some()
             || self.t_end.is_some()
             || self.decay_tol.is_some()
@@ -176,6 +194,18 @@ impl RunSweepArgs {
                 s.c0_over_u = self.c0_over_u.clone();
             },
         );
+        set(!self.lattice.is_empty(), &mut |s| {
+            s.lattice = self.lattice.clone()
+        });
+        set(!self.h_over_d.is_empty(), &mut |s| {
+            s.h_over_d = self.h_over_d.clone()
+        });
+        set(!self.jitter.is_empty(), &mut |s| {
+            s.jitter = self.jitter.clone()
+        });
+        if let Some(k) = self.seeds {
+            spec.seeds = k;
+        }
         if let Some(path) = &self.scene {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("reading scene file {}", path.display()))?;
@@ -344,12 +374,42 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
     let (Some(&n), Some(&alpha)) = (spec.n.first(), spec.alpha.first()) else {
         return Ok(());
     };
+    // The map is drawn at the grid's first N, alpha, discretisation and
+    // jitter amplitude (by grid position, not by value); a jittered
+    // point's cell is its worst over the seeds.
+    let Some(disc) = spec.points().first().map(|p| (p.disc, p.start)) else {
+        return Ok(());
+    };
+    let mut base = spec.scene.clone();
+    base.insert("lattice".into(), disc.0.lattice.name().into());
+    base.insert("h_over_d".into(), disc.0.h_over_d.to_string().into());
+    let mut what = String::new();
+    if disc.0 != sweep::Discretisation::PAPER {
+        what = format!(
+            ", {} lattice, h = {} d",
+            disc.0.lattice.name(),
+            disc.0.h_over_d
+        );
+    }
+    if let sweep::Start::Jittered { amplitude, .. } = disc.1 {
+        what.push_str(&format!(
+            ", jitter {amplitude} d, worst of {} seeds",
+            spec.seeds
+        ));
+    }
     for (kernel, krows) in charts::by_kernel(rows) {
-        let here: Vec<&Row> = krows
+        let first: Vec<Row> = krows
             .into_iter()
             .filter(|r| {
-                r.n == n && r.alpha == alpha && r.c0_over_u.is_finite() && r.c0_over_u > 0.0
+                let a = r.at;
+                (a.n, a.alpha, a.lattice, a.h_over_d, a.jitter) == (0, 0, 0, 0, 0)
             })
+            .cloned()
+            .collect();
+        let here: Vec<&Row> = sweep::worst_over_seeds(&first)
+            .into_iter()
+            .map(|g| g.worst)
+            .filter(|r| r.c0_over_u.is_finite() && r.c0_over_u > 0.0)
             .collect();
         let mut c0s: Vec<f64> = here.iter().map(|r| r.c0_over_u).collect();
         c0s.sort_by(f64::total_cmp);
@@ -359,8 +419,9 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
         }
         let cells = report::map_cells(&here);
         let res: Vec<f64> = here.iter().map(|r| r.re).collect();
-        let lines = report::rule_lines(&kernel, &spec.scene, n, alpha, &res)?;
-        let title = format!("{kernel}: outcome over c0 / U and Re (N = {n}, alpha = {alpha})");
+        let lines = report::rule_lines(&kernel, &base, n, alpha, &res)?;
+        let title =
+            format!("{kernel}: outcome over c0 / U and Re (N = {n}, alpha = {alpha}{what})");
         write_atomic(
             &dir.join(format!("stability_{kernel}.csv")),
             charts::map_csv(&kernel, &cells).as_bytes(),

@@ -98,7 +98,7 @@ impl Lattice {
                 if j != 0 {
                     // The own row has y = 0 (and W' / r of the self site
                     // may be infinite: (22b) is not 0 at q = 0).
-                    lyy -= y * y * K::dw_over_q(q2) * inv_h2 * inv_h2;
+                    lyy -= y * y * K::w_dw_over_q_lanes(q2).1 * inv_h2 * inv_h2;
                 }
             }
         }

@@ -260,6 +260,9 @@ fn find_one(
     let mut run = |c0_over_u: f64| -> Option<Row> {
         started();
         let point = Point {
+            at: Default::default(),
+            disc: Default::default(),
+            start: Default::default(),
             index: counter,
             kernel: t.info.name.to_string(),
             n: config.maps.n,

@@ -152,6 +152,9 @@ impl Config {
         let mut seen = BTreeSet::new();
         let mut push = |kernel: &str, n: u32, re: f64, alpha: f64, c0: PointC0| {
             let p = Point {
+                at: Default::default(),
+                disc: Default::default(),
+                start: Default::default(),
                 index: out.len(),
                 kernel: kernel.to_string(),
                 n,
@@ -262,6 +265,9 @@ pub fn rule_lines(
         for k in 0..=SAMPLES {
             let re = lo * (hi / lo).powf(k as f64 / SAMPLES as f64);
             let point = Point {
+                at: Default::default(),
+                disc: Default::default(),
+                start: Default::default(),
                 index: 0,
                 kernel: kernel.to_string(),
                 n,

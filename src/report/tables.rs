@@ -241,6 +241,9 @@ pub fn c0_compare(
     for info in infos {
         for &re in &config.empirical.re {
             let point = Point {
+                at: Default::default(),
+                disc: Default::default(),
+                start: Default::default(),
                 index: 0,
                 kernel: info.name.to_string(),
                 n: config.maps.n,

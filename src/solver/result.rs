@@ -100,7 +100,7 @@ impl std::fmt::Display for Failure {
 /// was seen: the first with a non-finite value ([`Failure::NotFinite`]),
 /// the fastest ([`Failure::Speed`]), the one of largest |y|
 /// ([`Failure::ThroughWall`]) or the densest ([`Failure::Compaction`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Particle {
     /// Index among the particles (fluid first; the order never changes).
     pub index: usize,
@@ -187,7 +187,8 @@ pub struct DtStats {
 }
 
 /// Steps bound by each time-step limit (`dt_limit_steps` in summary.json).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct DtLimitSteps {
     pub cfl: u64,
     pub viscous: u64,

@@ -1,6 +1,7 @@
-//! Many scenes in parallel: a grid of points (kernels x N x Re x alpha x c0),
-//! each run once, classified, and kept as one row. `shearsph sweep` and the
-//! report both run their scenes through here.
+//! Many scenes in parallel: a grid of points (kernels x discretisation x N x
+//! Re x alpha x start x c0), each run once, classified by its scene's bounds,
+//! and kept as one row (the point's key and the run's summary). `shearsph
+//! sweep` and the report both run their scenes through here.
 //!
 //! - A point is keyed by a stable id (`monaghan/n=10/re=30/alpha=0.1/c0=rule10`),
 //!   so a finished point is never rerun: a sweep resumes where it stopped.
@@ -16,14 +17,18 @@
 //! ignored and dropped on resume); `results.csv` is rewritten atomically from
 //! it when the sweep ends or stops.
 
+pub mod axes;
 mod grid;
 mod row;
+mod shard;
 pub mod store;
 
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
-pub use grid::{Point, PointC0, Shard, SweepSpec};
-pub use row::Row;
+pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
+pub use grid::{Point, PointC0, SweepSpec};
+pub use row::{worst_over_seeds, OverSeeds, Row};
+pub use shard::Shard;
 
 use std::collections::BTreeSet;
 use std::panic::{self, AssertUnwindSafe};
@@ -108,7 +113,7 @@ pub fn run_point_with(
     if stop.load(Ordering::Relaxed) {
         return None;
     }
-    let scene = match point.scene(base) {
+    let scene = match point.scene_classed(base, rules) {
         Ok(s) => s,
         Err(e) => {
             return Some(Row::not_run(
@@ -179,7 +184,7 @@ pub fn run_point_with(
     match result {
         // Stopped before the end: no row, so a resumed sweep reruns it.
         Ok(Ok(r)) if matches!(r.outcome, solver::Outcome::Interrupted { .. }) => None,
-        Ok(Ok(r)) => Some(Row::from_run(point, &r, rules)),
+        Ok(Ok(r)) => Some(Row::from_run(point, &r)),
         Ok(Err(e)) => Some(Row::not_run(
             point,
             FailureKind::Scene,

@@ -38,7 +38,7 @@ pub fn read_rows(path: &Path) -> Result<Vec<Row>> {
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(i, line)| {
-            serde_json::from_str(line).with_context(|| {
+            Row::from_json(line).with_context(|| {
                 format!(
                     "{} line {}: not a sweep row; the file was edited or is from another version \
                      (remove the line, or restart the sweep with --force)",
@@ -96,6 +96,10 @@ pub const CSV_COLUMNS: &[&str] = &[
     "n",
     "re",
     "alpha",
+    "lattice",
+    "h_over_d",
+    "jitter",
+    "seed",
     "c0_spec",
     "c0_rule",
     "c0",
@@ -128,6 +132,10 @@ fn csv_fields(r: &Row) -> Vec<String> {
         r.n.to_string(),
         f(r.re),
         f(r.alpha),
+        r.lattice.name().to_string(),
+        r.h_over_d.to_string(),
+        f(r.jitter),
+        r.seed.to_string(),
         r.c0_spec.clone(),
         r.c0_rule.clone(),
         f(r.c0),
@@ -143,7 +151,8 @@ fn csv_fields(r: &Row) -> Vec<String> {
         f(r.l2),
         f(r.max_eps),
         f(r.eps_bound),
-        f(r.rms_v),
+        // relative to U, as the column always was
+        f(r.rms_v / r.u),
         r.steps.to_string(),
         r.dt_limit_dominant
             .map(|l| l.name())
@@ -176,6 +185,19 @@ pub fn rows_csv(rows: &[Row]) -> String {
         let _ = writeln!(out, "{}", line.join(","));
     }
     out
+}
+
+/// The rows whose id is a point of `spec`'s grid, each given that point's
+/// position [`Row::at`] (not stored: the id is).
+pub fn on_grid(spec: &SweepSpec, rows: Vec<Row>) -> Vec<Row> {
+    let at: std::collections::BTreeMap<String, crate::sweep::At> =
+        spec.points().iter().map(|p| (p.id(), p.at)).collect();
+    rows.into_iter()
+        .filter_map(|mut r| {
+            r.at = *at.get(&r.id)?;
+            Some(r)
+        })
+        .collect()
 }
 
 /// Rows in grid order, one per id (the first of duplicates).
@@ -268,9 +290,8 @@ pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSp
 /// The rows of `dir`'s results that are points of `spec`'s grid; any other
 /// is skipped, with a warning.
 fn grid_rows(spec: &SweepSpec, rows: Vec<Row>, dir: &Path) -> Vec<Row> {
-    let ids: std::collections::BTreeSet<String> = spec.points().iter().map(|p| p.id()).collect();
     let total = rows.len();
-    let rows: Vec<Row> = rows.into_iter().filter(|r| ids.contains(&r.id)).collect();
+    let rows = on_grid(spec, rows);
     if rows.len() < total {
         eprintln!(
             "warning: {} row(s) of {} have an id that is not a point of this sweep's grid: \
