@@ -58,8 +58,14 @@ fn unshipped_kernel_end_to_end() {
     syn::parse_file(&src).expect("emitted module parses");
     assert!(src.contains("pub struct Poly6;"));
     // an even kernel needs no square root in W or W'/q
-    let w_fn = &src[src.find("fn w(").unwrap()..src.find("fn dw(").unwrap()];
-    assert!(!w_fn.contains("sqrt"), "{w_fn}");
+    let (w_at, pair_at) = (
+        src.find("fn w(").unwrap(),
+        src.find("fn w_dw_over_q_lanes(").unwrap(),
+    );
+    let impl_end = pair_at + src[pair_at..].find("\n}\n").unwrap();
+    for f in [&src[w_at..pair_at], &src[pair_at..impl_end]] {
+        assert!(!f.contains("sqrt"), "{f}");
+    }
     let json = shearsph_codegen::show::json(&a);
     assert_eq!(json["kernel"], "poly6");
     assert!(json["eps"]["t_max"].is_string());
