@@ -369,10 +369,10 @@ mod tests {
             let mut w = vec![0.0; entries.len() + 1];
             let mut pg = vec![0.0; entries.len() + 1];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let at = (x[0], y[0]);
+            let owners = vec![0u32; entries.len()];
             let xs = (&x[..], &y[..]);
             let out = (&mut w[..40], &mut pg[..40]);
-            pair_kernel_on::<Morris>(isa, at, &entries, xs, width, 0.5, out, scratch);
+            pair_kernel_on::<Morris>(isa, &entries, &owners, xs, width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, &w);
             let args = ForceArgs {
                 i: 0,
