@@ -23,14 +23,16 @@
 # 10 x 1.5 U_f), B = LAYERS particle spacings (10, the stock dx = DH / 20), to
 # t nu / B^2 = TAU (1: t = 2.5 in the stock case's units, whose own run goes
 # to t = 100, t nu / B^2 = 40). The matched rounds use the stock channel
-# length 6 DH (COLUMNS = 120 at 10 layers: 2400 fluid + 1024 wall particles,
-# the stock case exactly but for its end time); the ladders use a strip of
-# LADDER_COLUMNS_PER_LAYER x LAYERS columns.
+# length 6 DH on both sides (COLUMNS = 120 at 10 layers: SPHinXsys 2400 fluid
+# + 1024 wall particles, the stock case exactly but for its end time;
+# shearsph `--columns 120`, its own rows and wall layers on the same
+# channel); the ladders use a strip of LADDER_COLUMNS_PER_LAYER x LAYERS
+# columns on both sides (shearsph never narrower than its kernel allows).
 #
 # shearsph's side needs `shearsph bench --sphinxsys-match` (a square lattice
 # and h = 1.3 d with the Wendland C2 kernel: not yet in shearsph when this
 # script was written). It is called as
-#   shearsph bench --sphinxsys-match --layers N --tau TAU --threads K
+#   shearsph bench --sphinxsys-match --layers N --tau TAU --threads K --columns C
 # and must print one JSON line with at least: code (starting "shearsph"),
 # layers, particles, steps, threads, wall_s, particle_steps_per_s, t, tau
 # (t nu / B^2 reached) and linf_rel_err; if it also prints re (U B / nu) and
@@ -182,9 +184,11 @@ sphinxsys() {
       --columns "$3" --threads "$1") | tail -n 1 | python3 "$HERE/peer_metric.py"
 }
 shearsph() {
-  # shearsph THREADS LAYERS
-  local line
-  line=$("$BIN" bench --sphinxsys-match --layers "$2" --tau "$TAU" --threads "$1")
+  # shearsph THREADS LAYERS COLUMNS (at least the narrowest strip the kernel
+  # allows: 6 columns for Wendland C2 at h = 1.3 d)
+  local line cols=$3
+  [ "$cols" -ge 6 ] || cols=6
+  line=$("$BIN" bench --sphinxsys-match --layers "$2" --tau "$TAU" --threads "$1" --columns "$cols")
   python3 - "$RE" "$C0_FACTOR" "$line" <<'PYEOF'
 import json, sys
 re_, c0f, run = float(sys.argv[1]), float(sys.argv[2]), json.loads(sys.argv[3])
@@ -200,7 +204,7 @@ LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg)
 for t in $THREADS_LIST; do
   TAU_SAVED=$TAU; TAU=0.01
   sphinxsys "$t" "$LAYERS" "$COLUMNS" > /dev/null
-  [ "$SHEARSPH" = 0 ] || shearsph "$t" "$LAYERS" > /dev/null
+  [ "$SHEARSPH" = 0 ] || shearsph "$t" "$LAYERS" "$COLUMNS" > /dev/null
   TAU=$TAU_SAVED
 done
 
@@ -211,8 +215,8 @@ for r in $(seq "$ROUNDS"); do
     echo "round $r/$ROUNDS, $t thread(s): sphinxsys, $LAYERS layers, $COLUMNS columns, to t nu/B^2 = $TAU" >&2
     sphinxsys "$t" "$LAYERS" "$COLUMNS" >> "$WORK/sphinxsys.jsonl"
     if [ "$SHEARSPH" != 0 ]; then
-      echo "round $r/$ROUNDS, $t thread(s): shearsph" >&2
-      shearsph "$t" "$LAYERS" >> "$WORK/shearsph.jsonl"
+      echo "round $r/$ROUNDS, $t thread(s): shearsph, $LAYERS layers, $COLUMNS columns" >&2
+      shearsph "$t" "$LAYERS" "$COLUMNS" >> "$WORK/shearsph.jsonl"
     fi
   done
 done
@@ -229,7 +233,8 @@ if [ "$LADDER" != 0 ]; then
         sphinxsys "$t" "${SX[$i]}" $(( LADDER_COLUMNS_PER_LAYER * SX[i] )) >> "$WORK/ladder.jsonl"
       fi
       if [ "$SHEARSPH" != 0 ] && [ "$i" -lt "${#SH[@]}" ]; then
-        shearsph "$t" "${SH[$i]}" >> "$WORK/ladder.jsonl"
+        echo "ladder, $t thread(s): shearsph, ${SH[$i]} layers" >&2
+        shearsph "$t" "${SH[$i]}" $(( LADDER_COLUMNS_PER_LAYER * SH[i] )) >> "$WORK/ladder.jsonl"
       fi
     done
   done
@@ -239,6 +244,9 @@ LOAD_AFTER=$(cut -d' ' -f1-3 /proc/loadavg)
 NOTE="machine: $(nproc) cores; load average (1, 5, 15 min) before $LOAD_BEFORE, after $LOAD_AFTER"
 NOTE="$NOTE (above about 0.3 other work was running: the timings are then indicative only)"
 NOTE="$NOTE
+strips: the matched rounds $COLUMNS columns on both sides (the stock channel; the particle counts \
+differ by each code's rows and wall layers, printed per round), the ladders $LADDER_COLUMNS_PER_LAYER x \
+the half-width in particles on both sides (shearsph at least 6)
 SPHinXsys: $(basename "$SRC"), built with the stock Release flags${SPHINXSYS_CXX_FLAGS:+ plus $SPHINXSYS_CXX_FLAGS}; \
 steps are its acoustic steps (about 5 per advection step, which alone rebuilds the neighbour lists \
 and evaluates density, viscous force and transport correction)"

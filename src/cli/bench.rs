@@ -37,6 +37,10 @@ pub struct BenchArgs {
     /// No progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
+    /// Skip measuring the memory bandwidth (the roofline's second roof, a
+    /// triad over 3 x 128 MiB after the runs): the roof is then not given.
+    #[arg(long)]
+    pub no_bandwidth: bool,
     /// Instead: one run of the scene matched to PySPH's stock
     /// `pysph.examples.poiseuille` (see bench/peers/), `--steps` steps (default
     /// 2000) on the first of `--threads` (default all cores); prints JSON.
@@ -61,9 +65,12 @@ pub struct BenchArgs {
     /// With --sphinxsys-match: the end time in units of B^2 / nu.
     #[arg(long, default_value_t = 1.0, requires = "sphinxsys_match")]
     pub tau: f64,
-    /// With --sphinxsys-match: columns of the periodic strip (default: the
-    /// narrowest the kernel allows).
-    #[arg(long, requires = "sphinxsys_match")]
+    /// With --sphinxsys-match or --pysph-match: columns of the periodic strip
+    /// (as many as the peer's channel runs the same particle count; default
+    /// with --sphinxsys-match the narrowest the kernel allows, with
+    /// --pysph-match the fewest holding as many particles as PySPH's channel
+    /// at the same h / B).
+    #[arg(long)]
     pub columns: Option<u32>,
 }
 
@@ -102,6 +109,12 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
     if args.layers.is_some() && !(args.pysph_match || args.sphinxsys_match) {
         bail!("--layers goes with --pysph-match or --sphinxsys-match");
     }
+    if args.columns.is_some() && !(args.pysph_match || args.sphinxsys_match) {
+        bail!("--columns goes with --pysph-match or --sphinxsys-match");
+    }
+    if args.columns == Some(0) {
+        bail!("--columns must be at least 1 (120 is SPHinXsys's stock channel at 10 layers)");
+    }
     if args.sphinxsys_match {
         let layers = args.layers.unwrap_or(10);
         let run = bench::sphinxsys_match(layers, args.tau, threads, args.columns)?;
@@ -116,6 +129,7 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
             threads,
             args.wall_velocity,
             args.layers.unwrap_or(bench::PYSPH_MATCH_LAYERS),
+            args.columns,
         )?;
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);
@@ -140,6 +154,7 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
     }
     opts.steps = args.steps;
     opts.repeats = args.repeats;
+    opts.bandwidth = !args.no_bandwidth;
     let quiet = args.quiet;
     let report = bench::run(&opts, |msg| {
         if !quiet {

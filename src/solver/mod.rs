@@ -116,6 +116,8 @@ struct Sim<'p> {
     cutoff: f64,
     forces: Forces,
     max_eps: f64,
+    /// Seconds spent in the pair passes (density and forces) so far.
+    pair_loop_s: f64,
 }
 
 /// What one step found that may end the run.
@@ -150,6 +152,7 @@ impl<'p> Sim<'p> {
             cutoff,
             forces,
             max_eps,
+            pair_loop_s: 0.0,
         }
     }
 
@@ -180,8 +183,10 @@ impl<'p> Sim<'p> {
             self.list
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
         }
+        let passes = Instant::now();
         self.max_eps = step::density::<K>(&mut self.s, &self.list, &self.prm);
         self.forces = step::forces(&mut self.s, &self.list, &self.prm, 0.5 * dt);
+        self.pair_loop_s += passes.elapsed().as_secs_f64();
         StepCheck { max_abs_y }
     }
 
@@ -276,6 +281,28 @@ impl<'p> Sim<'p> {
                     .count()
             })
             .sum()
+    }
+
+    /// Bytes the pair passes of one step move at the least: every array
+    /// they read or write once (a neighbour's values gathered from cache
+    /// after the first touch are not counted again). The kernel pass reads
+    /// the pair table's entries and owners (4 + 4 per own pair) and x, y,
+    /// and writes W, (dW/dq)/q (8 + 8); the density sum reads each padded
+    /// slot's source and W (4 + 8) and writes rho, P, m/rho, P/rho^2; the
+    /// force pass reads each padded slot's entry, source and (dW/dq)/q
+    /// (4 + 4 + 8), the particle arrays x, y, vx, vy predicted, P, m/rho
+    /// (and the wall depth), and reads and writes the fluid's rho, v and a.
+    fn pass_bytes(&self) -> f64 {
+        let (n, nf) = (self.s.x.len() as f64, self.s.n_fluid as f64);
+        let own = self.list.own_pairs() as f64;
+        let padded: f64 = (0..self.s.x.len())
+            .map(|i| self.list.sources_padded(i).len() as f64)
+            .sum();
+        let depth = if self.prm.mirror_walls { 8.0 } else { 0.0 };
+        let kernel = own * 24.0 + 16.0 * n;
+        let sum = padded * 12.0 + 4.0 * n + 32.0 * n;
+        let forces = padded * 16.0 + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
+        kernel + sum + forces
     }
 
     /// Bytes held by the particle arrays and the neighbour structure.
@@ -423,6 +450,11 @@ pub struct StepsRun {
     pub neighbour_rebuilds: u64,
     /// Bytes of the particle arrays and the neighbour structure.
     pub bytes: usize,
+    /// Wall-clock seconds of the steps spent in the pair passes (density
+    /// and forces), and the bytes they move per step at the least (every
+    /// array they touch once, at the end; see `Sim::pass_bytes`).
+    pub pair_loop_s: f64,
+    pub pass_bytes_per_step: f64,
     pub outcome: Outcome,
     /// Diagnostics after the last step (against the start-up series when
     /// started from rest, the steady profile when started steady).
@@ -440,6 +472,7 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
     let mut sim = Sim::new::<K>(problem);
     let pairs_first = sim.pairs_in_support::<K>();
     let rebuilds_first = sim.list.rebuilds;
+    sim.pair_loop_s = 0.0;
     let mut t = 0.0;
     let mut taken = 0;
     let mut dt = 0.0;
@@ -472,6 +505,8 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
         listed_pairs: sim.list.pairs(),
         neighbour_rebuilds: sim.list.rebuilds - rebuilds_first,
         bytes: sim.bytes(),
+        pair_loop_s: sim.pair_loop_s,
+        pass_bytes_per_step: sim.pass_bytes(),
         outcome,
         last: sim.sample(t, taken, dt),
     }

@@ -34,9 +34,15 @@ pub struct NeighbourList {
     /// Of each list, how many entries come first as the particle's own
     /// ([`Self::own`]): the pairs whose kernel it evaluates.
     own: Vec<u32>,
-    /// For every slot, where its pair's kernel values are (see
-    /// [`Self::sources_padded`]).
+    /// For every slot, where its pair's kernel values are in the pair table
+    /// (see [`Self::sources_padded`]).
     source: Vec<u32>,
+    /// The pair table: every list's own entries, one stream without padding
+    /// ([`Self::own_stream`]); particle i's start at `own_start[i]`, and
+    /// the particle each belongs to.
+    own_start: Vec<u32>,
+    own_entries: Vec<u32>,
+    own_owner: Vec<u32>,
     /// The strip's width: the images' offsets ([`Entry::offset`]).
     width: f64,
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
@@ -203,20 +209,35 @@ impl NeighbourList {
         self.own[i] as usize
     }
 
-    /// For each of i's padded slots, the slot (`j * stride + slot` in a
-    /// table of [`Self::slots`] + 1) holding its pair's kernel values: its
-    /// own slot for an own entry, the mirror's slot in j's list for the
-    /// others, and [`Self::slots`] (a slot kept at zero) for padding.
+    /// For each of i's padded slots, the place in the pair table (of
+    /// [`Self::own_pairs`] + 1 values) holding its pair's kernel values:
+    /// `own_start(i) + slot` for an own entry, the mirror's place among j's
+    /// own entries for the others, and [`Self::own_pairs`] (a place kept at
+    /// zero) for padding.
     #[inline]
     pub fn sources_padded(&self, i: usize) -> &[u32] {
         let start = i * self.stride;
         &self.source[start..start + padded(self.count[i] as usize)]
     }
 
-    /// Slots of the padded table, `particles * stride`: the index of the
-    /// zero slot that padding's [`Self::sources_padded`] point at.
-    pub fn slots(&self) -> usize {
-        self.entries.len()
+    /// Own entries of all lists: the pairs whose kernel a step evaluates,
+    /// and the index of the zero place that padding's
+    /// [`Self::sources_padded`] point at.
+    pub fn own_pairs(&self) -> usize {
+        self.own_entries.len()
+    }
+
+    /// Where particle i's own entries start in the pair table.
+    #[inline]
+    pub fn own_start(&self, i: usize) -> usize {
+        self.own_start[i] as usize
+    }
+
+    /// The pair table's entries and, for each, the particle whose list it
+    /// is in: one stream, list after list, no padding. The kernel pass
+    /// evaluates it in equal pieces whatever the lists' lengths.
+    pub fn own_stream(&self) -> (&[u32], &[u32]) {
+        (&self.own_entries, &self.own_owner)
     }
 
     /// Total number of listed pairs (each counted from both sides).
@@ -230,6 +251,9 @@ impl NeighbourList {
             + self.entries.capacity()
             + self.own.capacity()
             + self.source.capacity()
+            + self.own_start.capacity()
+            + self.own_entries.capacity()
+            + self.own_owner.capacity()
             + self.bin_start.capacity()
             + self.bin_items.capacity()
             + self.near_start.capacity()
@@ -333,21 +357,49 @@ impl NeighbourList {
         self.stride = stride;
         self.count = count;
         self.own = own;
+        self.fill_own_stream();
         self.find_sources();
         self.rebuilds += 1;
     }
 
+    /// The pair table's stream ([`Self::own_stream`]): each list's own
+    /// entries in turn.
+    fn fill_own_stream(&mut self) {
+        let n = self.count.len();
+        self.own_start.clear();
+        self.own_start.reserve(n + 1);
+        let mut total = 0usize;
+        self.own_start.push(0);
+        for &o in &self.own {
+            total += o as usize;
+            assert!(total < u32::MAX as usize, "at most {} own pairs", u32::MAX);
+            self.own_start.push(total as u32);
+        }
+        self.own_entries.clear();
+        self.own_owner.clear();
+        self.own_entries.reserve(total);
+        self.own_owner.reserve(total);
+        for i in 0..n {
+            let start = i * self.stride;
+            let own = self.own[i] as usize;
+            self.own_entries
+                .extend_from_slice(&self.entries[start..start + own]);
+            self.own_owner.extend(std::iter::repeat_n(i as u32, own));
+        }
+    }
+
     /// Fill [`Self::sources_padded`]: for each mirrored entry (j, image) of
-    /// i, the slot of (i, mirrored image) among j's own entries. The lists
-    /// are symmetric: j lists i through the opposite image exactly when i
-    /// lists j (the same r^2 bits, and bins in reach both ways).
+    /// i, the place of (i, mirrored image) among j's own entries in the pair
+    /// table. The lists are symmetric: j lists i through the opposite image
+    /// exactly when i lists j (the same r^2 bits, and bins in reach both
+    /// ways).
     fn find_sources(&mut self) {
         let stride = self.stride;
         let slots = self.entries.len();
-        assert!(slots < u32::MAX as usize, "at most {} list slots", u32::MAX);
-        let zero = slots as u32;
+        let zero = self.own_entries.len() as u32;
         self.source.resize(slots, zero);
-        let (entries, count, own) = (&self.entries, &self.count, &self.own);
+        let (entries, count, own, own_start) =
+            (&self.entries, &self.count, &self.own, &self.own_start);
         self.source
             .par_chunks_mut(stride)
             .with_min_len(BUILD_CHUNK)
@@ -355,8 +407,9 @@ impl NeighbourList {
             .for_each(|(i, source)| {
                 let base = i * stride;
                 let (c, o) = (count[i] as usize, own[i] as usize);
+                let first = own_start[i];
                 for (slot, src) in source.iter_mut().enumerate().take(o) {
-                    *src = (base + slot) as u32;
+                    *src = first + slot as u32;
                 }
                 for (src, &e) in source[o..c].iter_mut().zip(&entries[base + o..base + c]) {
                     let j = Entry::index(e);
@@ -366,7 +419,7 @@ impl NeighbourList {
                         .iter()
                         .position(|&m| m == mirror)
                         .expect("neighbour lists are symmetric");
-                    *src = (from + k) as u32;
+                    *src = own_start[j] + k as u32;
                 }
                 for src in &mut source[c..] {
                     *src = zero;
@@ -511,9 +564,21 @@ mod tests {
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
         }
-        // Own entries first; every other one's source is its mirror, an own
-        // entry of its neighbour; padding's the zero slot.
-        let stride = list.stride();
+        // Own entries first, and in the pair table's stream in turn; every
+        // other one's source is its mirror, an own entry of its neighbour;
+        // padding's the zero place.
+        let (stream, owners) = list.own_stream();
+        for i in 0..x.len() {
+            let at = list.own_start(i);
+            assert_eq!(&stream[at..at + list.own(i)], &list.of(i)[..list.own(i)]);
+            assert!(owners[at..at + list.own(i)]
+                .iter()
+                .all(|&o| o as usize == i));
+        }
+        assert_eq!(
+            list.own_start(x.len() - 1) + list.own(x.len() - 1),
+            list.own_pairs()
+        );
         for i in 0..x.len() {
             let (own, count) = (list.own(i), list.of(i).len());
             assert!(list.of(i)[..own].iter().all(|&e| {
@@ -523,17 +588,17 @@ mod tests {
             for (slot, &src) in list.sources_padded(i).iter().enumerate() {
                 let src = src as usize;
                 if slot < own {
-                    assert_eq!(src, i * stride + slot);
+                    assert_eq!(src, list.own_start(i) + slot);
                 } else if slot < count {
                     let e = list.of(i)[slot];
                     let j = Entry::index(e);
-                    assert_eq!(src / stride, j, "particle {i} slot {slot}");
-                    assert!(src % stride < list.own(j));
-                    let m = list.of(j)[src % stride];
+                    let k = src.wrapping_sub(list.own_start(j));
+                    assert!(k < list.own(j), "particle {i} slot {slot}");
+                    let m = list.of(j)[k];
                     assert_eq!(Entry::index(m), i);
                     assert_eq!(Entry::image(m), 2 - Entry::image(e));
                 } else {
-                    assert_eq!(src, list.slots());
+                    assert_eq!(src, list.own_pairs());
                 }
             }
         }

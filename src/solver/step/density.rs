@@ -7,7 +7,7 @@ use super::isa::{lane_sum, Isa, Scratch, BLOCK};
 use super::state::{Params, State};
 use super::CHUNK;
 use crate::kernel::Kernel;
-use crate::solver::neighbours::{padded, Entry, NeighbourList, LANES};
+use crate::solver::neighbours::{Entry, NeighbourList, LANES};
 
 /// Floating-point operations of the density pass, the kernel's (W,
 /// (dW/dq)/q) aside: per pair evaluated (once for both directions), dx with
@@ -15,38 +15,44 @@ use crate::solver::neighbours::{padded, Entry, NeighbourList, LANES};
 pub(crate) const DENSITY_DISTANCE_FLOPS: u32 = 7;
 pub(crate) const DENSITY_SUM_FLOPS: u32 = 1;
 
-/// W and (dW/dq)/q of each of the entries of the particle at `at` into
-/// `out` (W, g), with its neighbours' positions `xs`. Two loops without
-/// branches or bounds checks, so that they vectorise: distances (a gather)
-/// and the kernel (all pieces, then a select). Element by element: the
-/// results do not depend on how the loops are compiled.
+/// W and (dW/dq)/q of a piece of the pair table's stream
+/// ([`NeighbourList::own_stream`]): `entries` and the particles `owners`
+/// whose lists they are in, into `out` (W, g), with the positions `xs`.
+/// Two loops without branches or bounds checks, so that they vectorise:
+/// distances (gathers of both ends) and the kernel (all pieces, then a
+/// select). Element by element, x_i - x_j + offset as ever: the results do
+/// not depend on how the loops are compiled nor on how the stream is cut.
 #[inline(always)]
 pub(super) fn pair_kernel<K: Kernel>(
-    at: (f64, f64),
     entries: &[u32],
+    owners: &[u32],
     xs: (&[f64], &[f64]),
     width: f64,
     inv_h2: f64,
     out: (&mut [f64], &mut [f64]),
     scratch: &mut Scratch,
 ) {
-    let ((xi, yi), (x, y), (w_out, g_out)) = (at, xs, out);
+    let ((x, y), (w_out, g_out)) = (xs, out);
     let n = x.len();
     assert!(n > 0 && y.len() == n);
+    assert!(owners.len() == entries.len() && w_out.len() == entries.len());
     // Every index is clamped into the arrays: no bounds check (an index
     // is below n by construction of the list anyway).
     let last = n - 1;
+    let last32 = u32::try_from(last).unwrap_or(u32::MAX);
     let q2 = &mut scratch.0;
-    for ((block, w_block), g_block) in entries
+    for (((block, own_block), w_block), g_block) in entries
         .chunks(BLOCK)
+        .zip(owners.chunks(BLOCK))
         .zip(w_out.chunks_mut(BLOCK))
         .zip(g_out.chunks_mut(BLOCK))
     {
         let m = block.len();
-        for (q2, &e) in q2[..m].iter_mut().zip(block) {
+        for ((q2, &e), &o) in q2[..m].iter_mut().zip(block).zip(own_block) {
             let j = Entry::index_below(e, last);
-            let dx = xi - x[j] + Entry::offset(e, width);
-            let dy = yi - y[j];
+            let i = o.min(last32) as usize;
+            let dx = x[i] - x[j] + Entry::offset(e, width);
+            let dy = y[i] - y[j];
             *q2 = (dx * dx + dy * dy) * inv_h2;
         }
         for ((&q2, w), g) in q2[..m].iter().zip(w_block).zip(g_block) {
@@ -76,7 +82,8 @@ pub(super) fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
 /// then the EOS. Returns the largest compaction eps = rho/rho0 - 1 of the
 /// fluid. Two passes: the kernel, W and (dW/dq)/q from one fused
 /// evaluation, once per pair, on the lists' own entries
-/// ([`NeighbourList::own`]); then per particle the sum of W over all its
+/// ([`NeighbourList::own`]) streamed in equal pieces without padding
+/// ([`NeighbourList::own_stream`]); then per particle the sum of W over all its
 /// slots, each taken from where it was evaluated, and the (dW/dq)/q of
 /// every slot kept for [`super::forces::forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
@@ -91,16 +98,15 @@ pub(super) fn density_with<K: Kernel>(
 ) -> f64 {
     let n = s.x.len();
     let nf = s.n_fluid;
-    // Room for the longest list: grows only when a rebuild lengthened it.
-    let stride = list.stride();
-    let slots = list.slots();
-    if s.near_stride != stride {
-        s.near_stride = stride;
-        // And the zero slot that padding reads, never written.
-        s.pair_w.resize(slots + 1, 0.0);
-        s.pair_g.resize(slots + 1, 0.0);
-        s.pair_w[slots] = 0.0;
-        s.pair_g[slots] = 0.0;
+    // The pair table and after it a place kept at zero that padding reads:
+    // resized when a rebuild changed the number of own pairs.
+    let pairs = list.own_pairs();
+    if s.pair_slots != pairs {
+        s.pair_slots = pairs;
+        s.pair_w.resize(pairs + 1, 0.0);
+        s.pair_g.resize(pairs + 1, 0.0);
+        s.pair_w[pairs] = 0.0;
+        s.pair_g[pairs] = 0.0;
     }
     let inp = DensityIn {
         x: &s.x[..n],
@@ -109,15 +115,16 @@ pub(super) fn density_with<K: Kernel>(
         width: list.width(),
         prm,
         nf,
-        stride,
     };
+    let (entries, owners) = list.own_stream();
     (
-        s.pair_w[..slots].par_chunks_mut(CHUNK * stride),
-        s.pair_g[..slots].par_chunks_mut(CHUNK * stride),
+        s.pair_w[..pairs].par_chunks_mut(STREAM_CHUNK),
+        s.pair_g[..pairs].par_chunks_mut(STREAM_CHUNK),
+        entries.par_chunks(STREAM_CHUNK),
+        owners.par_chunks(STREAM_CHUNK),
     )
         .into_par_iter()
-        .enumerate()
-        .for_each(|(c, out)| kernel_chunk_on::<K>(isa, c, out, &inp));
+        .for_each(|(w, g, e, o)| kernel_chunk_on::<K>(isa, (w, g), e, o, &inp));
     let pair_w = &s.pair_w[..];
     (
         s.rho.par_chunks_mut(CHUNK),
@@ -139,38 +146,33 @@ pub(super) struct DensityIn<'a> {
     width: f64,
     prm: &'a Params,
     nf: usize,
-    stride: usize,
 }
+
+/// Pairs per task of the kernel pass: a few hundred particles' own pairs,
+/// whole blocks.
+const STREAM_CHUNK: usize = 32 * BLOCK;
 
 /// One task's outputs of the kernel pass: the W and (dW/dq)/q slots.
 pub(super) type KernelOut<'a> = (&'a mut [f64], &'a mut [f64]);
 
-/// W and (dW/dq)/q of the own entries of the particles of task `c`, in
-/// whole groups of LANES: the few entries past the own ones that this
-/// takes are evaluated too (their slots are never read), rather than left
-/// to a scalar remainder.
+/// W and (dW/dq)/q of one piece of the pair table's stream.
 #[inline(always)]
-pub(super) fn kernel_chunk<K: Kernel>(c: usize, out: KernelOut, inp: &DensityIn) {
-    let (pair_w, pair_g) = out;
+pub(super) fn kernel_chunk<K: Kernel>(
+    out: KernelOut,
+    entries: &[u32],
+    owners: &[u32],
+    inp: &DensityIn,
+) {
     let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-    for (k, (w_out, g_out)) in pair_w
-        .chunks_exact_mut(inp.stride)
-        .zip(pair_g.chunks_exact_mut(inp.stride))
-        .enumerate()
-    {
-        let i = c * CHUNK + k;
-        let own = padded(inp.list.own(i));
-        let entries = &inp.list.of_padded(i)[..own];
-        pair_kernel::<K>(
-            (inp.x[i], inp.y[i]),
-            entries,
-            (inp.x, inp.y),
-            inp.width,
-            inp.prm.inv_h2,
-            (&mut w_out[..own], &mut g_out[..own]),
-            scratch,
-        );
-    }
+    pair_kernel::<K>(
+        entries,
+        owners,
+        (inp.x, inp.y),
+        inp.width,
+        inp.prm.inv_h2,
+        out,
+        scratch,
+    );
 }
 
 /// One task's outputs: rho, P, m/rho, P/rho^2.
@@ -208,7 +210,12 @@ pub(super) fn density_chunk<K: Kernel>(
 
 on_isa! {
     /// [`kernel_chunk`] compiled for the instruction set `isa`.
-    pub(super) fn kernel_chunk_on[K: Kernel] => kernel_chunk[K](c: usize, out: KernelOut, inp: &DensityIn)
+    pub(super) fn kernel_chunk_on[K: Kernel] => kernel_chunk[K](
+        out: KernelOut,
+        entries: &[u32],
+        owners: &[u32],
+        inp: &DensityIn
+    )
 }
 
 on_isa! {
@@ -226,8 +233,8 @@ on_isa! {
     #[cfg(test)]
     #[allow(clippy::too_many_arguments)]
     pub(super) fn pair_kernel_on[K: Kernel] => pair_kernel[K](
-        at: (f64, f64),
         entries: &[u32],
+        owners: &[u32],
         xs: (&[f64], &[f64]),
         width: f64,
         inv_h2: f64,

@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::isa::{lane_sum, Isa, Scratch, BLOCK};
+use super::isa::{lane_sum, Isa};
 use super::state::{Params, State};
 use super::CHUNK;
 use crate::solver::neighbours::{Entry, NeighbourList, LANES};
@@ -87,13 +87,12 @@ pub(super) struct ForceArgs<'a> {
     pub sc: Scales,
 }
 
-/// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: three
-/// loops without branches or bounds checks, as in [`super::density::pair_kernel`].
+/// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
+/// loop over whole groups of LANES slots (the list is padded to them), each
+/// slot's term added straight into its lane's accumulator, without branches
+/// or bounds checks, as in [`super::density::pair_kernel`].
 #[inline(always)]
-pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
-    args: ForceArgs,
-    scratch: &mut Scratch,
-) -> (f64, f64) {
+pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -> (f64, f64) {
     let ForceArgs {
         i,
         entries,
@@ -119,15 +118,9 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
-    let (cx, cy) = (&mut scratch.0, &mut scratch.1);
-    for (block, src_block) in entries.chunks(BLOCK).zip(sources.chunks(BLOCK)) {
-        let m = block.len();
-        for (((cx, cy), &e), &src) in cx[..m]
-            .iter_mut()
-            .zip(&mut cy[..m])
-            .zip(block)
-            .zip(src_block)
-        {
+    for (group, src_group) in entries.chunks_exact(LANES).zip(sources.chunks_exact(LANES)) {
+        for l in 0..LANES {
+            let (e, src) = (group[l], src_group[l]);
             let j = Entry::index_below(e, last);
             let g = pair_g[src.min(last_g) as usize];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
@@ -135,14 +128,14 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
             let dy = yi - y[j];
             let p = sc.pressure * (pqi + pq[j]);
             let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
-            let mut l = sc.visc * vol[j];
+            let mut lv = sc.visc * vol[j];
             if MIRROR {
                 // A wall particle at depth D beyond the no-slip plane shows
                 // fluid particle i, at distance g from it, the velocity
                 // -(D / g) v_i: the velocity difference grows by beta.
-                l *= 1.0 + (depth[j] * sc.inv_gap).min(beta_cap);
+                lv *= 1.0 + (depth[j] * sc.inv_gap).min(beta_cap);
             }
-            let (mut fx, mut fy) = (l * dvx - p * dx, l * dvy - p * dy);
+            let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
             if AV {
                 // Only approaching pairs (v_ij . r_ij < 0), branch-free.
                 let r2 = dx * dx + dy * dy;
@@ -151,14 +144,8 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(
                 fx += a * dx;
                 fy += a * dy;
             }
-            *cx = fx * g;
-            *cy = fy * g;
-        }
-        for (a, b) in cx[..m].chunks_exact(LANES).zip(cy[..m].chunks_exact(LANES)) {
-            for l in 0..LANES {
-                acc_x[l] += a[l];
-                acc_y[l] += b[l];
-            }
+            acc_x[l] += fx * g;
+            acc_y[l] += fy * g;
         }
     }
     (lane_sum(acc_x), lane_sum(acc_y))
@@ -268,7 +255,6 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
 ) -> Forces {
     let (ax, ay, vx, vy) = out;
     let prm = inp.prm;
-    let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
     let mut seen = Forces::NONE;
     for k in 0..ax.len() {
         let i = c * CHUNK + k;
@@ -301,7 +287,7 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
             width: inp.width,
             sc,
         };
-        let (fx, fy) = pair_forces::<AV, MIRROR>(args, scratch);
+        let (fx, fy) = pair_forces::<AV, MIRROR>(args);
         let axi = prm.grad_scale * fx + prm.body;
         let ayi = prm.grad_scale * fy;
         ax[k] = axi;
@@ -329,12 +315,13 @@ on_isa! {
     /// [`pair_forces`] alone, for the test that compares instruction sets.
     #[cfg(test)]
     pub(super) fn pair_forces_on[const AV: bool, const MIRROR: bool]
-        => pair_forces[AV, MIRROR](args: ForceArgs, scratch: &mut Scratch) -> (f64, f64)
+        => pair_forces[AV, MIRROR](args: ForceArgs) -> (f64, f64)
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::density::{pair_gather_on, pair_kernel_on};
+    use super::super::isa::BLOCK;
     use super::*;
     use crate::kernels::Morris;
 
@@ -369,10 +356,10 @@ mod tests {
             let mut w = vec![0.0; entries.len() + 1];
             let mut pg = vec![0.0; entries.len() + 1];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-            let at = (x[0], y[0]);
+            let owners = vec![0u32; entries.len()];
             let xs = (&x[..], &y[..]);
             let out = (&mut w[..40], &mut pg[..40]);
-            pair_kernel_on::<Morris>(isa, at, &entries, xs, width, 0.5, out, scratch);
+            pair_kernel_on::<Morris>(isa, &entries, &owners, xs, width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, &w);
             let args = ForceArgs {
                 i: 0,
@@ -387,7 +374,7 @@ mod tests {
                 width,
                 sc,
             };
-            let f = pair_forces_on::<true, true>(isa, args, scratch);
+            let f = pair_forces_on::<true, true>(isa, args);
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
             bits

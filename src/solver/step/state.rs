@@ -34,14 +34,14 @@ pub(crate) struct State {
     pub depth: Vec<f64>,
     /// What the density pass leaves for the force pass: W and (dW/dq)/q of
     /// every listed pair (0 beyond the support), evaluated once per pair
-    /// and step, in the slot (`near_stride` per particle) of the entry it
-    /// was evaluated for ([`NeighbourList::own`]), and after them a slot
-    /// kept at zero for padding; each entry finds its pair's through
-    /// [`NeighbourList::sources_padded`]. The force pass has no distance
-    /// test and no kernel.
+    /// and step, in the pair table's place of the own entry it was
+    /// evaluated for ([`NeighbourList::own_stream`], `pair_slots` of them),
+    /// and after them a place kept at zero for padding; each entry finds its
+    /// pair's through [`NeighbourList::sources_padded`]. The force pass has
+    /// no distance test and no kernel.
     pub pair_w: Vec<f64>,
     pub pair_g: Vec<f64>,
-    pub near_stride: usize,
+    pub pair_slots: usize,
 }
 
 impl State {
@@ -93,7 +93,7 @@ impl State {
             x,
             y,
             layer,
-            near_stride: 0,
+            pair_slots: usize::MAX,
             pair_w: Vec::new(),
             pair_g: Vec::new(),
         }

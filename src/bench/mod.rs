@@ -9,15 +9,25 @@
 //! neighbour list, density and forces) is left out. A measurement is repeated
 //! and the median kept, since the machines this runs on are noisy.
 
+mod machine;
+mod peers;
+mod table;
+
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
-use crate::config::{Initial, Scene, WallVelocity};
+use crate::config::{Initial, Scene};
 use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
 use crate::problem::lattice::Lattice;
 use crate::problem::Problem;
 use crate::solver::{self, StepsRun};
+pub use machine::{stream_gbs, Machine};
+pub use peers::{
+    pysph_match, pysph_match_problem, sphinxsys_match, sphinxsys_match_problem, PeerRun,
+    PYSPH_MATCH_LAYERS, SPHINXSYS_MATCH_RE,
+};
+pub use table::table;
 
 /// What to measure.
 #[derive(Debug, Clone)]
@@ -34,6 +44,8 @@ pub struct Options {
     pub repeats: usize,
     /// Thread counts (rayon pools) to measure with.
     pub threads: Vec<usize>,
+    /// Measure the memory bandwidth (a second or two) for the roofline.
+    pub bandwidth: bool,
 }
 
 impl Options {
@@ -48,6 +60,7 @@ impl Options {
             particle_steps: 4e6,
             repeats: 3,
             threads: thread_counts(),
+            bandwidth: true,
         }
     }
 }
@@ -62,7 +75,7 @@ pub fn thread_counts() -> Vec<usize> {
     }
 }
 
-fn cores() -> usize {
+pub(crate) fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
@@ -130,77 +143,6 @@ pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
     Ok(s.n_layers)
 }
 
-/// The machine and the peak it is measured against.
-#[derive(Debug, Clone, Serialize)]
-pub struct Machine {
-    pub cpu: String,
-    pub cores: usize,
-    /// Clock from /proc/cpuinfo (`cpu MHz`, the largest over cores); the
-    /// nominal clock on a virtual machine, no turbo.
-    pub ghz: f64,
-    /// The vector instructions of the pair loops (chosen at run time), and
-    /// the double-precision flops per cycle and core they allow: lanes x 2
-    /// (two FP ports on current x86 cores), no FMA (Rust never fuses a * b +
-    /// c, and the solver writes no mul_add).
-    pub isa_in_use: String,
-    pub flops_per_cycle_in_use: f64,
-    /// cores x GHz x flops/cycle for the instruction set in use.
-    pub peak_gflops_in_use: f64,
-    /// The widest vector unit the CPU has (from /proc/cpuinfo flags) with
-    /// FMA: lanes x 2 ports x 2 (the usual quoted peak, e.g. AVX2 FMA 16,
-    /// AVX-512 FMA 32 DP flops/cycle).
-    pub isa_best: &'static str,
-    pub flops_per_cycle_best: f64,
-    pub peak_gflops_best: f64,
-}
-
-/// (name, flops per cycle and core) of the CPU's widest unit, with FMA.
-fn best_isa(avx512: bool, avx: bool, fma: bool) -> (&'static str, f64) {
-    match (avx512, avx, fma) {
-        (true, _, _) => ("AVX-512 + FMA (8 lanes x 2 FMA ports x 2)", 32.0),
-        (false, true, true) => ("AVX2 + FMA (4 lanes x 2 FMA ports x 2)", 16.0),
-        (false, true, false) => ("AVX (4 lanes x add + mul ports)", 8.0),
-        _ => ("SSE2 (2 lanes x add + mul ports)", 4.0),
-    }
-}
-
-impl Machine {
-    pub fn detect() -> Machine {
-        let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-        let field = |name: &str| {
-            info.lines()
-                .filter(|l| l.starts_with(name))
-                .filter_map(|l| l.split_once(':').map(|(_, v)| v.trim().to_string()))
-                .collect::<Vec<_>>()
-        };
-        let cpu = field("model name").into_iter().next().unwrap_or_default();
-        let mhz = field("cpu MHz")
-            .iter()
-            .filter_map(|v| v.parse::<f64>().ok())
-            .fold(0.0, f64::max);
-        let ghz = if mhz > 0.0 { mhz / 1000.0 } else { f64::NAN };
-        let flags = field("flags").into_iter().next().unwrap_or_default();
-        let has = |f: &str| flags.split_whitespace().any(|x| x == f);
-        let (name, lanes) = solver::pair_loop_isa();
-        let in_use = 2.0 * f64::from(lanes);
-        let isa_in_use = format!("{name} ({lanes} lanes x 2 ports, no FMA)");
-        let (isa_best, best) = best_isa(has("avx512f"), has("avx"), has("fma"));
-        let cores = cores();
-        let peak = |f: f64| cores as f64 * ghz * f;
-        Machine {
-            cpu,
-            cores,
-            ghz,
-            isa_in_use,
-            flops_per_cycle_in_use: in_use,
-            peak_gflops_in_use: peak(in_use),
-            isa_best,
-            flops_per_cycle_best: best,
-            peak_gflops_best: peak(best),
-        }
-    }
-}
-
 /// One measurement: a kernel, a particle count, a thread count.
 #[derive(Debug, Clone, Serialize)]
 pub struct Row {
@@ -234,6 +176,20 @@ pub struct Row {
     /// CPU's best (see `Machine`); for the threads used (threads/cores of it).
     pub fraction_of_peak_in_use: f64,
     pub fraction_of_peak_best: f64,
+    /// The share of the steps' time spent in the pair passes (density and
+    /// forces, timed inside the solver), and their own rate: the step's
+    /// flops over that time, against the same peaks.
+    pub pair_loop_share: f64,
+    pub pair_loop_gflops: f64,
+    pub pair_loop_fraction_of_peak_in_use: f64,
+    pub pair_loop_fraction_of_peak_best: f64,
+    /// The roofline: bytes the pair passes move per directed pair in the
+    /// support at the least (every array once per pass), flops per such
+    /// byte, and the rate the roofs allow, min(peak in use, flops/byte x
+    /// measured bandwidth) for the threads used (NaN without bandwidth).
+    pub bytes_per_pair: f64,
+    pub flops_per_byte: f64,
+    pub roofline_gflops: f64,
     /// Particle arrays and neighbour structure, per particle.
     pub bytes_per_particle: f64,
     pub arrays_bytes: usize,
@@ -331,7 +287,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
     if opts.steps == Some(0) {
         bail!("--steps must be at least 1: a measurement of no steps has no throughput");
     }
-    let machine = Machine::detect();
+    let mut machine = Machine::detect();
     let mut rows = Vec::new();
     for kernel in &opts.kernels {
         let base = scene(kernel);
@@ -363,6 +319,10 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                 let pairs_per_s = r.pairs_per_step / per_step;
                 let gflops = pairs_per_s * flops * 1e-9;
                 let share = threads.min(machine.cores) as f64 / machine.cores as f64;
+                let pair_loop_share = r.pair_loop_s / r.wall_s;
+                let pair_loop_gflops = gflops / pair_loop_share;
+                let bytes_per_pair = r.pass_bytes_per_step / r.pairs_per_step;
+                let flops_per_byte = flops / bytes_per_pair;
                 rows.push(Row {
                     kernel: kernel.clone(),
                     target_particles: target,
@@ -384,6 +344,17 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     gflops,
                     fraction_of_peak_in_use: gflops / (machine.peak_gflops_in_use * share),
                     fraction_of_peak_best: gflops / (machine.peak_gflops_best * share),
+                    pair_loop_share,
+                    pair_loop_gflops,
+                    pair_loop_fraction_of_peak_in_use: pair_loop_gflops
+                        / (machine.peak_gflops_in_use * share),
+                    pair_loop_fraction_of_peak_best: pair_loop_gflops
+                        / (machine.peak_gflops_best * share),
+                    bytes_per_pair,
+                    flops_per_byte,
+                    // With the bandwidth, measured after every run (its
+                    // arrays would count in the runs' peak memory).
+                    roofline_gflops: f64::NAN,
                     bytes_per_particle: r.bytes as f64 / particles as f64,
                     arrays_bytes: r.bytes,
                     vm_hwm_bytes: vm_hwm_bytes(),
@@ -391,6 +362,15 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     ok: r.outcome.is_ok(),
                 });
             }
+        }
+    }
+    if opts.bandwidth {
+        progress("memory bandwidth (a triad over 3 x 128 MiB)");
+        machine.measure_bandwidth()?;
+        for row in &mut rows {
+            let share = row.threads.min(machine.cores) as f64 / machine.cores as f64;
+            row.roofline_gflops = (machine.peak_gflops_in_use * share)
+                .min(row.flops_per_byte * machine.bandwidth(row.threads));
         }
     }
     let mut scaling = Vec::new();
@@ -422,281 +402,5 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
         scene: "steady profile (7), Re = 10, c0 = 10 U, alpha = 0.1, h = d, skin 0.3 h".to_string(),
         rows,
         scaling,
-    })
-}
-
-/// The report as a text table.
-pub fn table(r: &Report) -> String {
-    let m = &r.machine;
-    let mut out = String::new();
-    out.push_str(&format!(
-        "machine: {} | {} cores at {:.2} GHz (/proc/cpuinfo)\n",
-        m.cpu, m.cores, m.ghz
-    ));
-    out.push_str(&format!(
-        "peak = cores x GHz x DP flops/cycle/core. In use (pair loops): {}: {} -> {:.1} GFLOP/s; \
-         the CPU's best, {}: {} -> {:.1} GFLOP/s\n",
-        m.isa_in_use,
-        m.flops_per_cycle_in_use,
-        m.peak_gflops_in_use,
-        m.isa_best,
-        m.flops_per_cycle_best,
-        m.peak_gflops_best
-    ));
-    out.push_str(&format!("scene: {}\n\n", r.scene));
-    out.push_str(&format!(
-        "{:<10} {:>8} {:>3} {:>6} {:>9} {:>12} {:>12} {:>7} {:>8} {:>6} {:>6} {:>7} {:>6} {:>8} {:>4}\n",
-        "kernel",
-        "particles",
-        "thr",
-        "steps",
-        "s/step",
-        "p-steps/s",
-        "pairs/s",
-        "ns/pair",
-        "ns/p-step",
-        "GF/s",
-        "%peak",
-        "%best",
-        "B/part",
-        "HWM MiB",
-        "ok"
-    ));
-    for row in &r.rows {
-        out.push_str(&format!(
-            "{:<10} {:>8} {:>3} {:>6} {:>9.3e} {:>12.4e} {:>12.4e} {:>7.2} {:>8.1} {:>6.2} {:>6.1} {:>7.2} {:>6.0} {:>8.1} {:>4}\n",
-            row.kernel,
-            row.particles,
-            row.threads,
-            row.steps,
-            row.wall_s / row.steps.max(1) as f64,
-            row.particle_steps_per_s,
-            row.pairs_per_s,
-            row.ns_per_pair,
-            row.ns_per_particle_step,
-            row.gflops,
-            100.0 * row.fraction_of_peak_in_use,
-            100.0 * row.fraction_of_peak_best,
-            row.bytes_per_particle,
-            row.vm_hwm_bytes.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
-            if row.ok { "ok" } else { "FAIL" },
-        ));
-    }
-    if !r.scaling.is_empty() {
-        out.push_str("\ncost per step ~ particles^k (least squares over the counts above):\n");
-        for s in &r.scaling {
-            out.push_str(&format!(
-                "  {:<10} {} thread(s): k = {:.3}; ns per particle-step {:.1} -> {:.1}\n",
-                s.kernel,
-                s.threads,
-                s.exponent,
-                s.ns_per_particle_step_first,
-                s.ns_per_particle_step_last
-            ));
-        }
-    }
-    out
-}
-
-/// shearsph on the scene matched to PySPH's stock example
-/// `pysph.examples.poiseuille` (see bench/peers/): one run of fixed steps.
-#[derive(Debug, Clone, Serialize)]
-pub struct PeerRun {
-    pub code: String,
-    /// The walls' velocity in the viscous term (`zero`: the paper's walls).
-    pub wall_velocity: WallVelocity,
-    /// Layers in the half-width (PySPH: 30 is the matched resolution).
-    pub layers: u32,
-    /// The discretisation ("square, h = 1 d").
-    pub discretisation: String,
-    /// U B / nu and c0 / U of the scene.
-    pub re: f64,
-    pub c0_over_u: f64,
-    pub particles: usize,
-    pub n_fluid: usize,
-    pub n_wall: usize,
-    pub steps: u64,
-    pub threads: usize,
-    /// Wall-clock seconds of the steps alone.
-    pub wall_s: f64,
-    pub particle_steps_per_s: f64,
-    pub t: f64,
-    /// t in units of B^2 / nu (B the half-width): the physical time that
-    /// both codes reach after the same number of steps.
-    pub tau: f64,
-    /// max over layers of |mean u - start-up series| / U at t.
-    pub linf_rel_err: f64,
-}
-
-/// PySPH's example, in shearsph's terms: the quintic spline (shearsph's
-/// `morris`, R = 3 h), h / B = 1/30 (dx = h = 1/60 across Ly = 1 = 2 B, the
-/// example's square lattice with hdx = 1), Re = Vmax Ly / nu = 0.0125, i.e.
-/// U B / nu = 0.00625, c0 = 10 U, no artificial viscosity (TVF has none),
-/// from rest. The time step is then bound by the viscous limit
-/// 0.125 h^2 / nu in both codes, so equal steps reach equal t nu / B^2.
-/// N = 30 layers in the half-width on the square lattice, h = d, and a strip
-/// 26 columns wide: 1690 particles with the walls, against PySPH's 1680
-/// (24 x 60 fluid, 2 x 5 x 24 wall).
-///
-/// `layers` other than [`PYSPH_MATCH_LAYERS`] gives the same flow at another
-/// resolution (h = d, so h / B = 1 / N), on the narrowest strip: for the
-/// time shearsph takes to reach PySPH's accuracy.
-pub fn pysph_match_problem(wall_velocity: WallVelocity, layers: u32) -> Result<Problem> {
-    let n_layers = layers;
-    let scene = Scene {
-        kernel: "morris".into(),
-        n_layers,
-        lattice: crate::kernel::Lattice::Square,
-        h_over_d: 1.0,
-        re: Some(0.00625),
-        p: None,
-        c0: "rule10".parse().expect("a valid c0 rule"),
-        alpha: 0.0,
-        initial: Initial::Rest,
-        wall_velocity,
-        t_end: Some(1e-6),
-        ..Scene::builtin()
-    };
-    let mut problem = Problem::resolve(&scene, scene.kernel_info()?)
-        .map_err(|e| e.with_flag("n_layers", "layers"))?;
-    if layers == PYSPH_MATCH_LAYERS {
-        // A wider strip than the kernel needs, to match the particle count:
-        // the flow does not depend on x.
-        let lat = &mut problem.lattice;
-        lat.columns = 26;
-        lat.width = f64::from(lat.columns) * lat.d;
-    }
-    Ok(problem)
-}
-
-/// Layers in the half-width of the scene matched to PySPH's resolution.
-pub const PYSPH_MATCH_LAYERS: u32 = 30;
-
-/// `steps` steps of the matched scene, or with `layers` other than 35 the
-/// steps that reach the same t nu / B^2 (the viscous limit binds: steps
-/// scale as layers^2). Layers other than 30 keep h = d.
-pub fn pysph_match(
-    steps: u64,
-    threads: usize,
-    wall_velocity: WallVelocity,
-    layers: u32,
-) -> Result<PeerRun> {
-    let problem = pysph_match_problem(wall_velocity, layers)?;
-    let scale = (f64::from(layers) / f64::from(PYSPH_MATCH_LAYERS)).powi(2);
-    let steps = ((steps as f64 * scale).round() as u64).max(1);
-    let (r, _) = measure(&problem, steps, threads)?;
-    let particles = r.n_fluid + r.n_wall;
-    let flow = &problem.flow;
-    Ok(PeerRun {
-        code: "shearsph (morris = quintic spline)".into(),
-        wall_velocity,
-        layers,
-        discretisation: problem.discretisation.label(),
-        re: problem.re,
-        c0_over_u: problem.c0 / flow.u,
-        particles,
-        n_fluid: r.n_fluid,
-        n_wall: r.n_wall,
-        steps: r.steps,
-        threads,
-        wall_s: r.wall_s,
-        particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s,
-        t: r.last.t,
-        tau: r.last.t * flow.nu / (flow.b * flow.b),
-        linf_rel_err: r.last.linf_rel_err,
-    })
-}
-
-/// SPHinXsys's stock `test_2d_poiseuille_flow` in shearsph's terms (see
-/// bench/peers/sphinxsys_poiseuille.sh, whose header fixes it): Wendland C2
-/// (`wendland_c2`), the square lattice with h = 13/10 d, B = N d,
-/// U B / nu = 7.5, c0 = 10 U, no artificial viscosity (SPHinXsys's Riemann
-/// solvers have none), no-slip walls (`mirrored`), from rest, to
-/// t nu / B^2 = `tau`, on a strip of `columns` columns (default: the
-/// narrowest the kernel allows).
-pub fn sphinxsys_match_problem(layers: u32, tau: f64, columns: Option<u32>) -> Result<Problem> {
-    if !(tau > 0.0 && tau.is_finite()) {
-        bail!("--tau {tau} must be a positive number (t nu / B^2)");
-    }
-    let scene = Scene {
-        kernel: "wendland_c2".into(),
-        n_layers: layers,
-        lattice: crate::kernel::Lattice::Square,
-        h_over_d: 1.3,
-        re: Some(SPHINXSYS_MATCH_RE),
-        p: None,
-        c0: "rule10".parse().expect("a valid c0 rule"),
-        alpha: 0.0,
-        initial: Initial::Rest,
-        wall_velocity: WallVelocity::Mirrored,
-        t_end: Some(1.0),
-        ..Scene::builtin()
-    };
-    let info = scene.kernel_info()?;
-    let mut probe = Problem::resolve(&scene, info)?;
-    let b = probe.flow.b;
-    let t_end = tau * b * b / probe.flow.nu;
-    let scene = Scene {
-        t_end: Some(t_end),
-        ..scene
-    };
-    probe = Problem::resolve(&scene, info)?;
-    if let Some(c) = columns {
-        let lat = &mut probe.lattice;
-        if c < lat.columns {
-            bail!(
-                "--columns {c} is narrower than kernel {} needs at h = {} d (at least {} columns)",
-                info.name,
-                scene.h_over_d,
-                lat.columns
-            );
-        }
-        // A wider strip than the kernel needs: the flow does not depend on x.
-        lat.columns = c;
-        lat.width = f64::from(c) * lat.d;
-    }
-    Ok(probe)
-}
-
-/// U B / nu of the SPHinXsys-matched scene: the stock case's Re = 10 on the
-/// mean speed and the full width.
-pub const SPHINXSYS_MATCH_RE: f64 = 7.5;
-
-/// One run of the SPHinXsys-matched scene to t nu / B^2 = `tau`. The solver
-/// runs whole steps whose dt follows the flow (c0 = 10 U: the CFL limit
-/// 0.25 h / (c0 + |v|max) binds, up to 10 % longer than at |v| = U), so a
-/// first run at the starting estimate's step count measures the mean dt and
-/// the timed run takes the steps that reach t_end at it.
-pub fn sphinxsys_match(
-    layers: u32,
-    tau: f64,
-    threads: usize,
-    columns: Option<u32>,
-) -> Result<PeerRun> {
-    let problem = sphinxsys_match_problem(layers, tau, columns)?;
-    let est = crate::problem::cost::Estimate::new(&problem.channel(), problem.c0, problem.t_end);
-    let first = (est.steps as u64).max(1);
-    let (probe, _) = measure(&problem, first, threads)?;
-    let steps = ((first as f64 * problem.t_end / probe.last.t).round() as u64).max(1);
-    let (r, _) = measure(&problem, steps, threads)?;
-    let particles = r.n_fluid + r.n_wall;
-    let flow = &problem.flow;
-    Ok(PeerRun {
-        code: "shearsph (wendland_c2 = Wendland C2)".into(),
-        wall_velocity: problem.wall_velocity,
-        layers,
-        discretisation: problem.discretisation.label(),
-        re: problem.re,
-        c0_over_u: problem.c0 / flow.u,
-        particles,
-        n_fluid: r.n_fluid,
-        n_wall: r.n_wall,
-        steps: r.steps,
-        threads,
-        wall_s: r.wall_s,
-        particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s,
-        t: r.last.t,
-        tau: r.last.t * flow.nu / (flow.b * flow.b),
-        linf_rel_err: r.last.linf_rel_err,
     })
 }

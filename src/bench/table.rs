@@ -1,0 +1,117 @@
+//! `shearsph bench`'s report as a text table.
+
+use super::Report;
+
+/// The report as a text table.
+pub fn table(r: &Report) -> String {
+    let m = &r.machine;
+    let mut out = String::new();
+    out.push_str(&format!(
+        "machine: {} | {} cores at {:.2} GHz (/proc/cpuinfo)\n",
+        m.cpu, m.cores, m.ghz
+    ));
+    out.push_str(&format!(
+        "peak = cores x GHz x DP flops/cycle/core. In use (pair loops): {}: {} -> {:.1} GFLOP/s; \
+         the CPU's best, {}: {} -> {:.1} GFLOP/s\n",
+        m.isa_in_use,
+        m.flops_per_cycle_in_use,
+        m.peak_gflops_in_use,
+        m.isa_best,
+        m.flops_per_cycle_best,
+        m.peak_gflops_best
+    ));
+    out.push_str(&format!(
+        "memory bandwidth (triad over 3 x 128 MiB, measured): {:.1} GB/s on 1 thread, {:.1} GB/s on {} \
+         cores\n",
+        m.stream_gbs_1, m.stream_gbs_all, m.cores
+    ));
+    out.push_str(&format!("scene: {}\n\n", r.scene));
+    out.push_str(&format!(
+        "{:<10} {:>8} {:>3} {:>6} {:>9} {:>12} {:>12} {:>7} {:>8} {:>6} {:>6} {:>7} {:>6} {:>8} {:>4}\n",
+        "kernel",
+        "particles",
+        "thr",
+        "steps",
+        "s/step",
+        "p-steps/s",
+        "pairs/s",
+        "ns/pair",
+        "ns/p-step",
+        "GF/s",
+        "%peak",
+        "%best",
+        "B/part",
+        "HWM MiB",
+        "ok"
+    ));
+    for row in &r.rows {
+        out.push_str(&format!(
+            "{:<10} {:>8} {:>3} {:>6} {:>9.3e} {:>12.4e} {:>12.4e} {:>7.2} {:>8.1} {:>6.2} {:>6.1} {:>7.2} {:>6.0} {:>8.1} {:>4}\n",
+            row.kernel,
+            row.particles,
+            row.threads,
+            row.steps,
+            row.wall_s / row.steps.max(1) as f64,
+            row.particle_steps_per_s,
+            row.pairs_per_s,
+            row.ns_per_pair,
+            row.ns_per_particle_step,
+            row.gflops,
+            100.0 * row.fraction_of_peak_in_use,
+            100.0 * row.fraction_of_peak_best,
+            row.bytes_per_particle,
+            row.vm_hwm_bytes.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
+            if row.ok { "ok" } else { "FAIL" },
+        ));
+    }
+    out.push_str(
+        "\nroofline of the pair passes (density and forces, timed inside the solver): their share \
+         of the step,\ntheir GFLOP/s and fraction of the peaks, the bytes they move per pair at the \
+         least (every array once\nper pass), flops per byte, and the roof min(peak in use, flops/byte \
+         x bandwidth) for the threads used:\n",
+    );
+    out.push_str(&format!(
+        "{:<10} {:>8} {:>3} {:>6} {:>7} {:>6} {:>6} {:>7} {:>6} {:>8} {:>6}\n",
+        "kernel",
+        "particles",
+        "thr",
+        "loops%",
+        "GF/s",
+        "%peak",
+        "%best",
+        "B/pair",
+        "F/B",
+        "roof GF/s",
+        "%roof"
+    ));
+    for row in &r.rows {
+        out.push_str(&format!(
+            "{:<10} {:>8} {:>3} {:>6.1} {:>7.2} {:>6.1} {:>6.2} {:>7.1} {:>6.2} {:>8.2} {:>6.1}\n",
+            row.kernel,
+            row.particles,
+            row.threads,
+            100.0 * row.pair_loop_share,
+            row.pair_loop_gflops,
+            100.0 * row.pair_loop_fraction_of_peak_in_use,
+            100.0 * row.pair_loop_fraction_of_peak_best,
+            row.bytes_per_pair,
+            row.flops_per_byte,
+            row.roofline_gflops,
+            100.0 * row.pair_loop_gflops / row.roofline_gflops,
+        ));
+    }
+    if !r.scaling.is_empty() {
+        out.push_str("\ncost per step ~ particles^k (least squares over the counts above):\n");
+        for s in &r.scaling {
+            out.push_str(&format!(
+                "  {:<10} {} thread(s): k = {:.3}; ns per particle-step {:.1} -> {:.1}\n",
+                s.kernel,
+                s.threads,
+                s.exponent,
+                s.ns_per_particle_step_first,
+                s.ns_per_particle_step_last
+            ));
+        }
+    }
+    out
+}
