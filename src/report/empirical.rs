@@ -20,7 +20,7 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::Config;
+use super::plan::{Config, Plan};
 use crate::kernel::KernelInfo;
 use crate::sweep::store::csv_field;
 use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
@@ -29,11 +29,17 @@ use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
 #[derive(Debug, Clone, Serialize)]
 pub struct Empirical {
     pub kernel: String,
+    /// The kernel's index in [`Config::kernel_infos`] and the Re's in
+    /// `empirical.re`: the keys the report joins by.
+    #[serde(skip)]
+    pub kernel_index: usize,
+    #[serde(skip)]
+    pub re_index: usize,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
     /// `ok`, or `stable` when no c0 tried ran ok.
-    pub criterion: &'static str,
+    pub criterion: Criterion,
     /// The smallest c0 / U seen to meet the criterion (None: none did).
     pub c0_over_u: Option<f64>,
     /// The largest c0 / U below it seen not to meet it, and how that run
@@ -58,12 +64,40 @@ pub struct Empirical {
     pub runs: Vec<Row>,
 }
 
+/// What the empirical c0 is the smallest value of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Criterion {
+    /// Runs `ok`.
+    Ok,
+    /// Runs neither failed nor over-compressed (none ran ok).
+    Stable,
+}
+
+impl std::fmt::Display for Criterion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Criterion::Ok => "ok",
+            Criterion::Stable => "stable",
+        })
+    }
+}
+
+impl Criterion {
+    fn meets(self, class: Class) -> bool {
+        match self {
+            Criterion::Ok => class == Class::Ok,
+            Criterion::Stable => matches!(class, Class::Ok | Class::Inaccurate),
+        }
+    }
+}
+
 impl Empirical {
     /// Plain words for the table and the verdicts.
     /// Plain words: the answer, its bracket, how far up the ok runs reach,
     /// and any isolated ok values below.
     pub fn describe(&self) -> String {
-        let crit = if self.criterion == "ok" {
+        let crit = if self.criterion == Criterion::Ok {
             "ran ok"
         } else {
             "ran without failing or over-compressing (none ran ok)"
@@ -96,7 +130,7 @@ impl Empirical {
         match &self.above {
             Some((c, class)) => t.push_str(&format!(
                 "; runs {} up to {} U, and at {} U the run was {class}",
-                if self.criterion == "ok" {
+                if self.criterion == Criterion::Ok {
                     "stayed ok"
                 } else {
                     "stayed stable"
@@ -106,7 +140,7 @@ impl Empirical {
             )),
             None => t.push_str(&format!(
                 "; every c0 above it on the map {} too, up to {} U",
-                if self.criterion == "ok" {
+                if self.criterion == Criterion::Ok {
                     "ran ok"
                 } else {
                     "ran stably"
@@ -123,7 +157,7 @@ impl Empirical {
             t.push_str(&format!(
                 "; below the bracket, {} also {} while values between did not (isolated, not counted)",
                 iso.join(", "),
-                if self.criterion == "ok" { "ran ok" } else { "ran stably" }
+                if self.criterion == Criterion::Ok { "ran ok" } else { "ran stably" }
             ));
         }
         t
@@ -134,16 +168,12 @@ fn fmt(v: f64) -> String {
     crate::format::fmt_num(v)
 }
 
-fn meets(criterion: &str, class: Class) -> bool {
-    match criterion {
-        "ok" => class == Class::Ok,
-        _ => matches!(class, Class::Ok | Class::Inaccurate),
-    }
-}
-
 /// One target: a kernel at one Re, with the map's rows there.
 struct Target<'a> {
     info: &'static KernelInfo,
+    kernel: usize,
+    /// Index into `empirical.re`.
+    re_index: usize,
     re: f64,
     map: Vec<&'a Row>,
 }
@@ -152,6 +182,7 @@ struct Target<'a> {
 /// targets in parallel. `None` when the stop flag cut it short.
 pub fn find_all(
     config: &Config,
+    plan: &Plan,
     infos: &[&'static KernelInfo],
     rows: &[Row],
     par: Parallel,
@@ -159,21 +190,19 @@ pub fn find_all(
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    for info in infos {
-        for &re in &config.empirical.re {
-            let mut map: Vec<&Row> = rows
-                .iter()
-                .filter(|r| {
-                    r.kernel == info.name
-                        && r.n == config.maps.n
-                        && r.alpha == config.maps.alpha
-                        && r.re == re
-                        && r.c0_spec.ends_with('U')
-                        && r.c0_over_u.is_finite()
-                })
-                .collect();
+    for (kernel, &info) in infos.iter().enumerate() {
+        for (re_index, &re) in config.empirical.re.iter().enumerate() {
+            let at = Some(config.map_re_of_verdict(re_index));
+            let mut map = plan.map_rows(rows, kernel, at);
+            map.retain(|r| r.c0_over_u.is_finite());
             map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
-            targets.push(Target { info, re, map });
+            targets.push(Target {
+                info,
+                kernel,
+                re_index,
+                re,
+                map,
+            });
         }
     }
     // Bisection steps are not known ahead: the bar grows as they start.
@@ -211,10 +240,12 @@ fn find_one(
     let tried_max = t.map.last().map_or(f64::NAN, |r| r.c0_over_u);
     let mut result = Empirical {
         kernel: t.info.name.to_string(),
+        kernel_index: t.kernel,
+        re_index: t.re_index,
         n: config.maps.n,
         re: t.re,
         alpha: config.maps.alpha,
-        criterion: "ok",
+        criterion: Criterion::Ok,
         c0_over_u: None,
         below: None,
         below_class: None,
@@ -228,10 +259,10 @@ fn find_one(
         isolated_below: Vec::new(),
         runs: Vec::new(),
     };
-    let criterion = if t.map.iter().any(|r| meets("ok", r.class)) {
-        "ok"
-    } else if t.map.iter().any(|r| meets("stable", r.class)) {
-        "stable"
+    let criterion = if t.map.iter().any(|r| Criterion::Ok.meets(r.class)) {
+        Criterion::Ok
+    } else if t.map.iter().any(|r| Criterion::Stable.meets(r.class)) {
+        Criterion::Stable
     } else {
         return Some(result);
     };
@@ -240,17 +271,17 @@ fn find_one(
     let top = t
         .map
         .iter()
-        .rposition(|r| meets(criterion, r.class))
+        .rposition(|r| criterion.meets(r.class))
         .expect("one meets it");
     result.top = Some(t.map[top].c0_over_u);
     result.above = t.map.get(top + 1).map(|r| (r.c0_over_u, r.class));
     let mut k = top;
-    while k > 0 && meets(criterion, t.map[k - 1].class) {
+    while k > 0 && criterion.meets(t.map[k - 1].class) {
         k -= 1;
     }
     result.isolated_below = t.map[..k]
         .iter()
-        .filter(|r| meets(criterion, r.class))
+        .filter(|r| criterion.meets(r.class))
         .map(|r| r.c0_over_u)
         .collect();
     let mut hi: Row = t.map[k].clone();
@@ -278,7 +309,7 @@ fn find_one(
             let row = run(hi.c0_over_u / 3.0)?;
             result.runs.push(row.clone());
             result.tried_min = result.tried_min.min(row.c0_over_u);
-            if meets(criterion, row.class) {
+            if criterion.meets(row.class) {
                 hi = row;
             } else {
                 lo = Some(row);
@@ -291,7 +322,7 @@ fn find_one(
             let mid = (hi.c0_over_u * below.c0_over_u).sqrt();
             let row = run(mid)?;
             result.runs.push(row.clone());
-            if meets(criterion, row.class) {
+            if criterion.meets(row.class) {
                 hi = row;
             } else {
                 below = row;

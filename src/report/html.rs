@@ -3,11 +3,13 @@
 
 use std::fmt::Write as _;
 
-use super::tables::EpsCompare;
+use super::tables::{C0Compare, EpsCompare};
 use super::ReportData;
 use crate::charts::class_hex;
+use crate::config::C0Rule;
 use crate::format::fmt_num;
 use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
+use crate::problem::cost::DtLimit;
 use crate::sweep::Class;
 
 /// A figure as written: its SVG file, the CSV behind it, and its text.
@@ -270,11 +272,11 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
             "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
             esc(&r.kernel),
             num(r.re),
-            esc(&r.rule),
+            esc(&r.rule.to_string()),
             if r.default_model { " (default)" } else { "" },
             if r.c0_over_u > 0.0 { num(r.c0_over_u) } else { format!("{} (no positive root)", num(r.c0_over_u)) },
             num(r.dt),
-            r.dt_limit,
+            r.dt_limit.map_or("", DtLimit::name),
             num(r.steps_est),
             num(r.particle_steps_est),
             class_cell(r.class),
@@ -341,17 +343,13 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
     );
     h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">criterion</th><th>empirical c0 / U</th><th>below it</th><th class=\"l\">run below</th><th>derived c0 / U (default)</th><th>Table 2 c0 / U</th><th>rule c0 / U</th><th>bisection runs</th><th class=\"l\">isolated ok values below (not counted)</th></tr>\n");
     for e in &d.empirical {
-        let rule_c0 = |rule: &str| {
+        let rule_c0 = |want: &dyn Fn(&C0Compare) -> bool| {
             d.c0_compare
                 .iter()
-                .find(|x| {
-                    x.kernel == e.kernel
-                        && x.re == e.re
-                        && (x.rule == rule || (rule == "default" && x.default_model))
-                })
+                .find(|x| x.kernel_index == e.kernel_index && x.re_index == e.re_index && want(x))
                 .map(|x| x.c0_over_u)
         };
-        let derived = rule_c0("default");
+        let derived = rule_c0(&|x| x.default_model);
         let _ = writeln!(
             h,
             "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td><b>{}</b></td><td>{}</td><td class=\"l wrap\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td><td class=\"l\">{}</td></tr>",
@@ -366,7 +364,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
                 Some(_) => "no positive root".into(),
                 None => "–".into(),
             },
-            rule_c0("table2").map_or("–".into(), num),
+            rule_c0(&|x| x.rule == C0Rule::Table2).map_or("–".into(), num),
             e.runs.len(),
             if e.isolated_below.is_empty() {
                 "–".to_string()

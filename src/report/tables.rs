@@ -8,9 +8,10 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{verdict_rules, Config};
+use super::plan::{Config, Plan, Role};
+use crate::config::C0Rule;
 use crate::kernel::{Derived, KernelInfo};
-use crate::problem::c0::table as c0_table;
+use crate::problem::c0::{all_rules_on, table as c0_table};
 use crate::problem::cost::DtLimit;
 use crate::sweep::store::csv_field;
 use crate::sweep::{Class, Point, PointC0, Row};
@@ -205,18 +206,21 @@ pub fn table2_csv(t: &[Table2Row]) -> String {
 
 /// One rule for one kernel at one scene: c0, the time step it implies, the
 /// cost estimate, and the measured run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct C0Compare {
     pub kernel: String,
+    /// The keys: the kernel's index in [`Config::kernel_infos`], the Re's in
+    /// `empirical.re`, and the rule (a derived one with its model named).
+    pub kernel_index: usize,
+    pub re_index: usize,
+    pub rule: C0Rule,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
-    /// `derived:MODEL`, `rule10`, `table2`.
-    pub rule: String,
     pub default_model: bool,
     pub c0_over_u: f64,
     pub dt: f64,
-    pub dt_limit: String,
+    pub dt_limit: Option<DtLimit>,
     /// Steps to t_end at that dt, and particles x steps.
     pub steps_est: f64,
     pub particle_steps_est: f64,
@@ -234,12 +238,13 @@ pub struct C0Compare {
 /// Every rule at every verdict Re for every kernel.
 pub fn c0_compare(
     config: &Config,
+    plan: &Plan,
     infos: &[&'static KernelInfo],
     rows: &[Row],
 ) -> Result<Vec<C0Compare>> {
     let mut out = Vec::new();
-    for info in infos {
-        for &re in &config.empirical.re {
+    for (ki, info) in infos.iter().enumerate() {
+        for (ri, &re) in config.empirical.re.iter().enumerate() {
             let point = Point {
                 index: 0,
                 kernel: info.name.to_string(),
@@ -258,30 +263,30 @@ pub fn c0_compare(
                 info.support,
             )
             .n_particles() as f64;
-            let rule_ids: Vec<String> = verdict_rules(info).iter().map(|r| r.to_string()).collect();
-            for t in &table.rows {
-                let run = rows.iter().find(|r| {
-                    r.kernel == info.name
-                        && r.n == config.maps.n
-                        && r.re == re
-                        && r.alpha == config.maps.alpha
-                        && rule_ids.contains(&r.c0_spec)
-                        && r.c0_rule == t.rule
+            // The table's rows are its discretisation's rules, in order.
+            let disc = scene.discretisation(info)?;
+            for (rule, t) in all_rules_on(info, disc).into_iter().zip(&table.rows) {
+                let run = plan.row(rows, |k| {
+                    k.kernel == ki
+                        && k.role
+                            == Role::Rule {
+                                re: ri,
+                                rule: rule.clone(),
+                            }
                 });
                 let ran = run.filter(|r| r.steps > 0);
                 out.push(C0Compare {
                     kernel: info.name.to_string(),
+                    kernel_index: ki,
+                    re_index: ri,
                     n: config.maps.n,
                     re,
                     alpha: config.maps.alpha,
-                    rule: t.rule.clone(),
-                    default_model: t.rule == format!("derived:{}", info.c0_default),
+                    default_model: rule == C0Rule::Derived(Some(info.c0_default.to_string())),
+                    rule,
                     c0_over_u: t.c0_over_u,
                     dt: t.cost.as_ref().map_or(f64::NAN, |c| c.dt),
-                    dt_limit: t
-                        .cost
-                        .as_ref()
-                        .map_or(String::new(), |c| c.dt_limit.name().to_string()),
+                    dt_limit: t.cost.as_ref().map(|c| c.dt_limit),
                     steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps),
                     particle_steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps * particles),
                     class: run.map(|r| r.class),
@@ -310,11 +315,11 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.n,
             c.re,
             c.alpha,
-            csv_field(&c.rule),
+            csv_field(&c.rule.to_string()),
             c.default_model,
             c.c0_over_u,
             c.dt,
-            c.dt_limit,
+            c.dt_limit.map_or("", DtLimit::name),
             c.steps_est,
             c.particle_steps_est,
             c.class.map_or(String::new(), |k| k.to_string()),
