@@ -13,7 +13,7 @@ mod empirical;
 mod figures;
 mod html;
 mod plan;
-mod tables;
+pub(crate) mod tables;
 mod verdict;
 mod write;
 
