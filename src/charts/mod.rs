@@ -3,10 +3,12 @@
 //! stability maps, Figure 4).
 
 pub mod figure4;
+pub mod rules;
 pub mod run;
 pub mod sweep;
 
 pub use figure4::*;
+pub use rules::*;
 pub use sweep::*;
 
 use plotters::prelude::DrawingAreaErrorKind;
