@@ -27,6 +27,9 @@ fn run_cli(args: &[&str]) -> (Value, Option<i32>) {
 fn sweep_class(n: u32, c0: &str, rules: &ClassRules) -> Class {
     let scene = Scene::builtin();
     let point = Point {
+        at: Default::default(),
+        disc: Default::default(),
+        start: Default::default(),
         index: 0,
         kernel: scene.kernel.clone(),
         n,

@@ -21,7 +21,7 @@ use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
 /// Run a grid of scenes in parallel, or merge shard folders.
 ///
 /// The grid comes from --sweep FILE (TOML: kernels, n, re, alpha, c0,
-/// c0_over_u, [classes], [scene]) and/or the flags (lists, comma-separated;
+/// c0_over_u, lattice, h_over_d, jitter, seeds, [classes], [scene]) and/or the flags (lists, comma-separated;
 /// a flag replaces the file's list). With neither, the folder's own sweep is
 /// resumed (or the default grid started). A finished point is never rerun.
 #[derive(Debug, Args)]
@@ -84,6 +84,20 @@ pub struct RunSweepArgs {
     /// Sound speeds as multiples of U.
     #[arg(long, value_delimiter = ',')]
     pub c0_over_u: Vec<f64>,
+    /// Starting lattices: triangular (the paper's, default), square.
+    #[arg(long, value_delimiter = ',')]
+    pub lattice: Vec<crate::kernel::Lattice>,
+    /// h/d values, numbers or exact rationals (1, 13/10; default 1); each
+    /// lattice x h/d must be generated for every kernel.
+    #[arg(long, value_delimiter = ',')]
+    pub h_over_d: Vec<sweep::HOverDValue>,
+    /// Jitter amplitudes of the start in d (default 0: the perfect lattice).
+    #[arg(long, value_delimiter = ',')]
+    pub jitter: Vec<f64>,
+    /// Seeds per non-zero jitter amplitude (seeds 1..=K, default 3); a
+    /// perturbed point's outcome is its worst over them.
+    #[arg(long, value_name = "K")]
+    pub seeds: Option<u32>,
     /// A scene file whose fields every point starts from (the grid's win).
     #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
@@ -136,6 +150,10 @@ impl RunSweepArgs {
             || !self.alpha.is_empty()
             || !self.c0.is_empty()
             || !self.c0_over_u.is_empty()
+            || !self.lattice.is_empty()
+            || !self.h_over_d.is_empty()
+            || !self.jitter.is_empty()
+            || self.seeds.is_some()
             || self.scene.is_some()
             || self.t_end.is_some()
             || self.decay_tol.is_some()
@@ -176,6 +194,18 @@ impl RunSweepArgs {
                 s.c0_over_u = self.c0_over_u.clone();
             },
         );
+        set(!self.lattice.is_empty(), &mut |s| {
+            s.lattice = self.lattice.clone()
+        });
+        set(!self.h_over_d.is_empty(), &mut |s| {
+            s.h_over_d = self.h_over_d.clone()
+        });
+        set(!self.jitter.is_empty(), &mut |s| {
+            s.jitter = self.jitter.clone()
+        });
+        if let Some(k) = self.seeds {
+            spec.seeds = k;
+        }
         if let Some(path) = &self.scene {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("reading scene file {}", path.display()))?;

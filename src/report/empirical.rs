@@ -20,7 +20,7 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::plan::{Config, Plan};
+use super::plan::{worst, Case, Config, Plan};
 use crate::kernel::KernelInfo;
 use crate::sweep::store::csv_field;
 use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
@@ -35,6 +35,12 @@ pub struct Empirical {
     pub kernel_index: usize,
     #[serde(skip)]
     pub re_index: usize,
+    /// The discretisation and start; a perturbed case's outcome at a c0 is
+    /// its worst over the seeds.
+    #[serde(skip)]
+    pub case: Case,
+    /// The discretisation's label ("triangular, h = d").
+    pub discretisation: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
@@ -171,6 +177,7 @@ fn fmt(v: f64) -> String {
 /// One target: a kernel at one Re, with the map's rows there.
 struct Target<'a> {
     info: &'static KernelInfo,
+    case: Case,
     kernel: usize,
     /// Index into `empirical.re`.
     re_index: usize,
@@ -190,19 +197,25 @@ pub fn find_all(
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    for (kernel, &info) in infos.iter().enumerate() {
-        for (re_index, &re) in config.empirical.re.iter().enumerate() {
-            let at = Some(config.map_re_of_verdict(re_index));
-            let mut map = plan.map_rows(rows, kernel, at);
-            map.retain(|r| r.c0_over_u.is_finite());
-            map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
-            targets.push(Target {
-                info,
-                kernel,
-                re_index,
-                re,
-                map,
-            });
+    for case in Case::ALL {
+        for (kernel, &info) in infos.iter().enumerate() {
+            if case.disc.of(info).is_none() {
+                continue;
+            }
+            for (re_index, &re) in config.empirical.re.iter().enumerate() {
+                let at = Some(config.map_re_of_verdict(re_index));
+                let mut map = plan.map_rows(rows, kernel, case, at);
+                map.retain(|r| r.c0_over_u.is_finite());
+                map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
+                targets.push(Target {
+                    info,
+                    case,
+                    kernel,
+                    re_index,
+                    re,
+                    map,
+                });
+            }
         }
     }
     // Bisection steps are not known ahead: the bar grows as they start.
@@ -242,6 +255,8 @@ fn find_one(
         kernel: t.info.name.to_string(),
         kernel_index: t.kernel,
         re_index: t.re_index,
+        case: t.case,
+        discretisation: t.case.disc.of(t.info).map_or(String::new(), |(_, on)| on.label()),
         n: config.maps.n,
         re: t.re,
         alpha: config.maps.alpha,
@@ -288,26 +303,34 @@ fn find_one(
     let mut lo: Option<Row> = k.checked_sub(1).map(|j| t.map[j].clone());
 
     let mut counter = 0usize;
-    let mut run = |c0_over_u: f64| -> Option<Row> {
-        started();
-        let point = Point {
-            index: counter,
-            kernel: t.info.name.to_string(),
-            n: config.maps.n,
-            re: t.re,
-            alpha: config.maps.alpha,
-            c0: PointC0::OverU(c0_over_u),
-        };
-        counter += 1;
-        let row = run_point(&point, &config.scene, &config.classes, stop)?;
-        finished();
-        Some(row)
+    let (disc, _) = t.case.disc.of(t.info).expect("a target's discretisation");
+    // One c0 on every start of the case: the worst row, every row kept.
+    let mut run = |c0_over_u: f64, runs: &mut Vec<Row>| -> Option<Row> {
+        let first = runs.len();
+        for seed in config.seeds(t.case.perturbed) {
+            started();
+            let point = Point {
+                disc,
+                start: config.start(seed),
+                ..Point::paper(
+                    counter,
+                    t.info.name,
+                    config.maps.n,
+                    t.re,
+                    config.maps.alpha,
+                    PointC0::OverU(c0_over_u),
+                )
+            };
+            counter += 1;
+            runs.push(run_point(&point, &config.scene, &config.classes, stop)?);
+            finished();
+        }
+        Some(worst(runs[first..].iter().collect()).clone())
     };
     // Below the map's lowest value, when that one already met it.
     if lo.is_none() {
         for _ in 0..e.max_extend {
-            let row = run(hi.c0_over_u / 3.0)?;
-            result.runs.push(row.clone());
+            let row = run(hi.c0_over_u / 3.0, &mut result.runs)?;
             result.tried_min = result.tried_min.min(row.c0_over_u);
             if criterion.meets(row.class) {
                 hi = row;
@@ -320,8 +343,7 @@ fn find_one(
     if let Some(mut below) = lo {
         while hi.c0_over_u / below.c0_over_u > 1.0 + e.rel_tol {
             let mid = (hi.c0_over_u * below.c0_over_u).sqrt();
-            let row = run(mid)?;
-            result.runs.push(row.clone());
+            let row = run(mid, &mut result.runs)?;
             if criterion.meets(row.class) {
                 hi = row;
             } else {
@@ -353,13 +375,13 @@ pub fn reason(r: &Row) -> String {
 
 pub fn csv(list: &[Empirical]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below\n",
+        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below,discretisation,start\n",
     );
     let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for e in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&e.kernel),
             e.n,
             e.re,
@@ -381,7 +403,9 @@ pub fn csv(list: &[Empirical]) -> String {
                     .map(|v| v.to_string())
                     .collect::<Vec<_>>()
                     .join(" ")
-            )
+            ),
+            csv_field(&e.discretisation),
+            e.case.start_name()
         );
     }
     out

@@ -8,10 +8,10 @@ use crate::charts::{EpsCurve, EpsPanel, MapCell, MapLine};
 use crate::config::C0Rule;
 use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
-use crate::problem::c0::{all_rules, by_rule};
+use crate::problem::c0::{all_rules_on, by_rule};
 use crate::problem::channel::Channel;
 use crate::solver::ideal_shear;
-use crate::sweep::{Point, PointC0, Row};
+use crate::sweep::{Discretisation, Point, PointC0, Row};
 
 /// Map cells from rows with a numeric c0.
 pub fn map_cells(rows: &[&Row]) -> Vec<MapCell> {
@@ -30,10 +30,22 @@ pub fn map_cells(rows: &[&Row]) -> Vec<MapCell> {
 }
 
 /// Each rule's c0 / U against Re over (and a little beyond) the range of
-/// `res`, for kernel `kernel` at N = `n` and `alpha`: every derived model, 10
-/// U, Table 2. A rule is cut where it has no positive value.
+/// `res`, for kernel `kernel` at N = `n` and `alpha` on the paper's
+/// discretisation: every rule. A rule is cut where it has no positive value.
 pub fn rule_lines(
     kernel: &str,
+    base: &toml::Table,
+    n: u32,
+    alpha: f64,
+    res: &[f64],
+) -> Result<Vec<MapLine>> {
+    rule_lines_on(kernel, Discretisation::PAPER, base, n, alpha, res)
+}
+
+/// [`rule_lines`] on discretisation `disc` (its derived models).
+pub fn rule_lines_on(
+    kernel: &str,
+    disc: Discretisation,
     base: &toml::Table,
     n: u32,
     alpha: f64,
@@ -50,18 +62,15 @@ pub fn rule_lines(
     let (lo, hi) = (lo / 1.5, hi * 1.5);
     const SAMPLES: usize = 60;
     let mut lines = Vec::new();
-    for rule in all_rules(info) {
+    let on = crate::config::discretisation(info, disc.lattice, disc.h_over_d.value())?;
+    for rule in all_rules_on(info, on) {
         let mut pieces: Vec<Vec<(f64, f64)>> = Vec::new();
         let mut cur: Vec<(f64, f64)> = Vec::new();
         for k in 0..=SAMPLES {
             let re = lo * (hi / lo).powf(k as f64 / SAMPLES as f64);
             let point = Point {
-                index: 0,
-                kernel: kernel.to_string(),
-                n,
-                re,
-                alpha,
-                c0: PointC0::OverU(1.0),
+                disc,
+                ..Point::paper(0, kernel, n, re, alpha, PointC0::OverU(1.0))
             };
             let scene = point.scene(base)?;
             let channel = Channel::resolve(&scene, info)?;

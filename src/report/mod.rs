@@ -9,6 +9,7 @@
 //! bisection with the solver in the loop; the verdicts are sentences built
 //! from those rows, never typed in.
 
+mod answer;
 mod empirical;
 mod figures;
 mod html;
@@ -175,12 +176,13 @@ pub fn run(
 }
 
 /// Where the method fails: the first run of a kernel's stability map (grid
-/// order) that the solver stopped, run again (the solver's results are the
+/// order; the perturbed map's when none of the perfect one's failed, its
+/// seed that was the worst) that the solver stopped, run again (the solver's results are the
 /// same bits on any thread count, so it fails at the same step) keeping
 /// only its last particle field, drawn with the failing particle ringed.
 /// `None` when no run of the map failed in the solver.
-fn failure_picture(d: &ReportData, map: &[&Row]) -> Result<Option<String>> {
-    let Some(row) = map.iter().find(|r| {
+fn failure_picture(d: &ReportData, map: &[&Row], perturbed: &[&Row]) -> Result<Option<String>> {
+    let Some(row) = map.iter().chain(perturbed).find(|r| {
         r.class == Class::Failed
             && r.failure_kind.is_some_and(|k| {
                 !matches!(

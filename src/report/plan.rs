@@ -10,10 +10,12 @@ use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
 use crate::config::{C0Rule, C0Spec};
-use crate::kernel::KernelInfo;
+use crate::kernel::{DiscretisationInfo, KernelInfo};
 use crate::kernels;
-use crate::problem::c0::all_rules;
-use crate::sweep::{ClassRules, Point, PointC0, Row};
+use crate::problem::c0::all_rules_on;
+use crate::sweep::{
+    worst_over_seeds, ClassRules, Discretisation, HOverD, Point, PointC0, Row, Start,
+};
 
 /// The default report's config.
 pub const DEFAULT_CONFIG: &str = include_str!("report.toml");
@@ -34,7 +36,32 @@ pub struct Config {
     pub speed: SpeedConfig,
     pub maps: MapsConfig,
     pub empirical: EmpiricalConfig,
+    pub perturbed: PerturbedConfig,
+    pub square: SquareConfig,
     pub figure4: Figure4Config,
+}
+
+/// Perturbed starts: every map point (at `re`), every rule at the verdicts'
+/// Re and the empirical c0 also run from `seeds` starts jittered by
+/// `jitter` d; a point's perturbed outcome is its worst over the seeds.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PerturbedConfig {
+    pub jitter: f64,
+    pub seeds: u32,
+    /// The maps' Re run perturbed too (each one of maps.re, every
+    /// empirical.re among them).
+    pub re: Vec<f64>,
+}
+
+/// The square lattice: the stability map (at `re`), the verdict rules and
+/// the empirical c0 on one square discretisation per kernel
+/// ([`super::square_discretisation`]), perfect and perturbed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SquareConfig {
+    /// Each one of maps.re, every empirical.re among them.
+    pub re: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -97,6 +124,18 @@ impl Config {
                 bail!("empirical.re = {re} is not one of maps.re: the bisection starts from the map's row at that Re");
             }
         }
+        for (field, list) in [("perturbed.re", &self.perturbed.re), ("square.re", &self.square.re)] {
+            if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
+                bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
+            }
+            if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
+                bail!("{field} lacks empirical.re = {re}: the bisection starts from the map's row at that Re");
+            }
+        }
+        let j = self.perturbed.jitter;
+        if !(j > 0.0 && j < 0.5) || self.perturbed.seeds == 0 {
+            bail!("perturbed.jitter must be in (0, 0.5) d and perturbed.seeds at least 1 (got {j} and {})", self.perturbed.seeds);
+        }
         if self.maps.c0_over_u.is_empty() || self.maps.re.is_empty() {
             bail!("maps.re and maps.c0_over_u need at least one value each");
         }
@@ -130,21 +169,54 @@ impl Config {
             .expect("checked by Config::check")
     }
 
+    /// The seeds of a case's starts: 0 (the perfect lattice) or 1..=seeds.
+    pub fn seeds(&self, perturbed: bool) -> std::ops::RangeInclusive<u32> {
+        if perturbed {
+            1..=self.perturbed.seeds
+        } else {
+            0..=0
+        }
+    }
+
+    /// The start of seed `seed` (0: perfect).
+    pub fn start(&self, seed: u32) -> Start {
+        match seed {
+            0 => Start::Perfect,
+            seed => Start::Jittered {
+                amplitude: self.perturbed.jitter,
+                seed,
+            },
+        }
+    }
+
+    /// The perturbation in words: "jittered by 0.05 d, worst of 3 seeds".
+    pub fn perturbed_label(&self) -> String {
+        format!(
+            "jittered by {} d, worst of {} seeds",
+            self.perturbed.jitter, self.perturbed.seeds
+        )
+    }
+
+    /// The maps' Re (indices into maps.re) a case runs.
+    fn map_res(&self, case: Case) -> Vec<usize> {
+        let keep = |re: &f64| {
+            (!case.perturbed || self.perturbed.re.contains(re))
+                && (case.disc == Disc::Paper || self.square.re.contains(re))
+        };
+        (0..self.maps.re.len()).filter(|&i| keep(&self.maps.re[i])).collect()
+    }
+
     /// Every scene of the report but the bisection's, each once, with its
-    /// keys: the speed grid, the rules at the verdicts' Re (every derived
-    /// model, 10 U, Table 2) and the maps.
+    /// keys: the speed grid (the paper's discretisation, perfect start), and
+    /// for each case the rules at the verdicts' Re and the maps.
     pub fn plan(&self) -> Plan {
         let infos = self.kernel_infos();
         let mut plan = Plan::default();
         let mut seen: BTreeMap<String, usize> = BTreeMap::new();
-        let mut push = |kernel: usize, n: u32, re: f64, alpha: f64, c0: PointC0, role: Role| {
+        let mut push = |kernel: usize, p: Point, role: Role| {
             let p = Point {
                 index: plan.points.len(),
-                kernel: infos[kernel].name.to_string(),
-                n,
-                re,
-                alpha,
-                c0,
+                ..p
             };
             let key = Key { kernel, role };
             match seen.get(&p.id()) {
@@ -156,7 +228,9 @@ impl Config {
                 }
             }
         };
+        let (m, e) = (&self.maps, &self.empirical);
         for (k, &info) in infos.iter().enumerate() {
+            let name = info.name;
             for (ni, &n) in self.speed.n.iter().enumerate() {
                 for (ri, &re) in self.speed.re.iter().enumerate() {
                     for (ci, c) in self.speed.c0.iter().enumerate() {
@@ -166,22 +240,45 @@ impl Config {
                                 re: ri,
                                 c0: ci,
                             };
-                            push(k, n, re, self.speed.alpha, PointC0::Spec(spec), role);
+                            let c0 = PointC0::Spec(spec);
+                            push(k, Point::paper(0, name, n, re, self.speed.alpha, c0), role);
                         }
                     }
                 }
             }
-            for (ri, &re) in self.empirical.re.iter().enumerate() {
-                for rule in all_rules(info).into_iter().filter(is_verdict_rule) {
-                    let spec = PointC0::Spec(scene_spec(info, &rule));
-                    let role = Role::Rule { re: ri, rule };
-                    push(k, self.maps.n, re, self.maps.alpha, spec, role);
-                }
-            }
-            for (ri, &re) in self.maps.re.iter().enumerate() {
-                for (ci, &x) in self.maps.c0_over_u.iter().enumerate() {
-                    let role = Role::Map { re: ri, c0: ci };
-                    push(k, self.maps.n, re, self.maps.alpha, PointC0::OverU(x), role);
+            for case in Case::ALL {
+                let Some((disc, on)) = case.disc.of(info) else {
+                    continue;
+                };
+                for seed in self.seeds(case.perturbed) {
+                    let at = |re: f64, c0: PointC0| Point {
+                        disc,
+                        start: self.start(seed),
+                        ..Point::paper(0, name, m.n, re, m.alpha, c0)
+                    };
+                    for (ri, &re) in e.re.iter().enumerate() {
+                        for rule in case.disc.rules(info, on) {
+                            let spec = PointC0::Spec(scene_spec(info, &rule));
+                            let role = Role::Rule {
+                                disc: case.disc,
+                                seed,
+                                re: ri,
+                                rule,
+                            };
+                            push(k, at(re, spec), role);
+                        }
+                    }
+                    for ri in self.map_res(case) {
+                        for (ci, &x) in m.c0_over_u.iter().enumerate() {
+                            let role = Role::Map {
+                                disc: case.disc,
+                                seed,
+                                re: ri,
+                                c0: ci,
+                            };
+                            push(k, at(m.re[ri], PointC0::OverU(x)), role);
+                        }
+                    }
                 }
             }
         }
@@ -194,10 +291,108 @@ impl Config {
     }
 }
 
-/// The rules the verdicts compare: every derived model, `rule10`, and
-/// `table2` when printed. The other codes' rules are in the c0 tables and
-/// drawn on the maps, but not run here: 100 U (trixi) alone would cost ten
-/// times the runs of 10 U, past the report's few minutes.
+/// Which discretisation a case runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Disc {
+    /// The paper's: triangular, h = d.
+    Paper,
+    /// The kernel's [`super::square_discretisation`].
+    Square,
+}
+
+impl Disc {
+    /// The kernel's discretisation of this kind, as a point takes it and as
+    /// generated; `None` when none is generated.
+    pub fn of(self, info: &'static KernelInfo) -> Option<(Discretisation, &'static DiscretisationInfo)> {
+        let on = match self {
+            Disc::Paper => super::papers(info)?,
+            Disc::Square => super::square_discretisation(info)?,
+        };
+        let h_over_d = HOverD::parse_exact(on.h_over_d_exact)?;
+        Some((
+            Discretisation {
+                lattice: on.lattice,
+                h_over_d,
+            },
+            on,
+        ))
+    }
+
+    /// The rules run at the verdicts' Re: on the paper's discretisation
+    /// every rule (the first screen's picture), on the square one the
+    /// derived models and 10 U (the peers' rules cost the same there, and
+    /// 100 U ten times 10 U's steps: past the report's few minutes).
+    fn rules(self, info: &KernelInfo, on: &DiscretisationInfo) -> Vec<C0Rule> {
+        let all = all_rules_on(info, on);
+        match self {
+            Disc::Paper => all,
+            Disc::Square => all.into_iter().filter(is_verdict_rule).collect(),
+        }
+    }
+}
+
+/// A case of the report: a discretisation and a start (perfect, or
+/// perturbed: the worst over the seeds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Case {
+    pub disc: Disc,
+    pub perturbed: bool,
+}
+
+impl Case {
+    pub const ALL: [Case; 4] = [
+        Case {
+            disc: Disc::Paper,
+            perturbed: false,
+        },
+        Case {
+            disc: Disc::Paper,
+            perturbed: true,
+        },
+        Case {
+            disc: Disc::Square,
+            perturbed: false,
+        },
+        Case {
+            disc: Disc::Square,
+            perturbed: true,
+        },
+    ];
+    pub const PAPER: Case = Case::ALL[0];
+
+    /// The suffix of its files: "", "_perturbed", "_square",
+    /// "_square_perturbed".
+    pub fn file_suffix(self) -> &'static str {
+        match (self.disc, self.perturbed) {
+            (Disc::Paper, false) => "",
+            (Disc::Paper, true) => "_perturbed",
+            (Disc::Square, false) => "_square",
+            (Disc::Square, true) => "_square_perturbed",
+        }
+    }
+
+    /// The page's figure id of its stability maps.
+    pub fn figure_id(self) -> &'static str {
+        match (self.disc, self.perturbed) {
+            (Disc::Paper, false) => "stability",
+            (Disc::Paper, true) => "stability_perturbed",
+            (Disc::Square, false) => "stability_square",
+            (Disc::Square, true) => "stability_square_perturbed",
+        }
+    }
+
+    /// "perfect" or "perturbed".
+    pub fn start_name(self) -> &'static str {
+        if self.perturbed {
+            "perturbed"
+        } else {
+            "perfect"
+        }
+    }
+}
+
+/// The verdict rules of the square discretisation: every derived model,
+/// `rule10` (and `table2`, the paper's discretisation only).
 fn is_verdict_rule(rule: &C0Rule) -> bool {
     matches!(rule, C0Rule::Derived(_) | C0Rule::Rule10 | C0Rule::Table2)
 }
@@ -217,11 +412,22 @@ fn scene_spec(info: &KernelInfo, rule: &C0Rule) -> C0Spec {
 pub enum Role {
     /// The speed grid: `speed.n[n]`, `speed.re[re]`, `speed.c0[c0]`.
     Speed { n: usize, re: usize, c0: usize },
-    /// A verdict rule at `empirical.re[re]` (N = maps.n, alpha = maps.alpha),
-    /// its derived model named (the default one too).
-    Rule { re: usize, rule: C0Rule },
+    /// A rule at `empirical.re[re]` (N = maps.n, alpha = maps.alpha), its
+    /// derived model named (the default one too), on `disc` from start
+    /// `seed` (0: the perfect lattice).
+    Rule {
+        disc: Disc,
+        seed: u32,
+        re: usize,
+        rule: C0Rule,
+    },
     /// The stability map: `maps.re[re]`, `maps.c0_over_u[c0]`.
-    Map { re: usize, c0: usize },
+    Map {
+        disc: Disc,
+        seed: u32,
+        re: usize,
+        c0: usize,
+    },
 }
 
 /// A scene's place in the report: the kernel (an index into
@@ -252,18 +458,73 @@ impl Plan {
             .collect()
     }
 
-    /// The row with a key `want` takes, if any.
-    pub fn row<'a>(&self, rows: &'a [Row], want: impl Fn(&Key) -> bool) -> Option<&'a Row> {
-        self.rows(rows, want).into_iter().next()
+    /// Kernel `kernel`'s stability-map rows of case `case` at `maps.re[re]`,
+    /// or at every Re, over its seeds: one row per map point, the worst of
+    /// its seeds' (the perfect start's own row), in grid order.
+    pub fn map_rows<'a>(
+        &self,
+        rows: &'a [Row],
+        kernel: usize,
+        case: Case,
+        re: Option<usize>,
+    ) -> Vec<&'a Row> {
+        let mut groups: BTreeMap<(usize, usize), Vec<&'a Row>> = BTreeMap::new();
+        for r in rows {
+            for key in self.keys.get(r.index).into_iter().flatten() {
+                if let Role::Map {
+                    disc,
+                    seed,
+                    re: ri,
+                    c0,
+                } = key.role
+                {
+                    let wanted = key.kernel == kernel
+                        && disc == case.disc
+                        && (seed > 0) == case.perturbed
+                        && re.is_none_or(|x| x == ri);
+                    if wanted {
+                        groups.entry((ri, c0)).or_default().push(r);
+                    }
+                }
+            }
+        }
+        let mut out: Vec<&'a Row> = groups.into_values().map(worst).collect();
+        out.sort_by_key(|r| r.index);
+        out
     }
 
-    /// Kernel `kernel`'s stability-map rows at `maps.re[re]`, or at every Re.
-    pub fn map_rows<'a>(&self, rows: &'a [Row], kernel: usize, re: Option<usize>) -> Vec<&'a Row> {
-        self.rows(rows, |k| {
+    /// The row (the worst over the seeds) of kernel `kernel`'s rule `rule`
+    /// at `empirical.re[re]` in case `case`.
+    pub fn rule_row<'a>(
+        &self,
+        rows: &'a [Row],
+        kernel: usize,
+        case: Case,
+        re: usize,
+        rule: &C0Rule,
+    ) -> Option<&'a Row> {
+        let seeds = self.rows(rows, |k| {
             k.kernel == kernel
-                && matches!(k.role, Role::Map { re: r, .. } if re.is_none_or(|x| x == r))
-        })
+                && matches!(&k.role, Role::Rule { disc, seed, re: r, rule: x }
+                    if *disc == case.disc && (*seed > 0) == case.perturbed && *r == re && x == rule)
+        });
+        (!seeds.is_empty()).then(|| worst(seeds))
     }
+}
+
+/// The worst of one point's rows over its seeds (failed > over-compressed >
+/// inaccurate > ok, then the larger error: [`worst_over_seeds`]).
+pub fn worst(seeds: Vec<&Row>) -> &Row {
+    let owned: Vec<Row> = seeds.iter().map(|r| (*r).clone()).collect();
+    let folded = worst_over_seeds(&owned);
+    let w = folded
+        .first()
+        .map(|g| g.worst.index)
+        .expect("at least one row");
+    seeds
+        .into_iter()
+        .find(|r| r.index == w)
+        .expect("the worst is one of them")
 }
 
 #[cfg(test)]
@@ -289,6 +550,8 @@ mod tests {
                     let want = Key {
                         kernel: k,
                         role: Role::Rule {
+                            disc: Disc::Paper,
+                            seed: 0,
                             re: ri,
                             rule: C0Rule::Rule10,
                         },

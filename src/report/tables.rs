@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde::Serialize;
 
-use super::plan::{Config, Plan, Role};
+use super::plan::{Case, Config, Plan};
 use crate::config::C0Rule;
 use crate::kernel::{Derived, KernelInfo};
 use crate::problem::c0::{all_rules_on, table as c0_table};
@@ -214,6 +214,10 @@ pub struct C0Compare {
     pub kernel_index: usize,
     pub re_index: usize,
     pub rule: C0Rule,
+    /// The discretisation and start of the run; perturbed: the worst of
+    /// its seeds' runs.
+    pub case: Case,
+    pub discretisation: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
@@ -235,7 +239,7 @@ pub struct C0Compare {
     pub run_dt_limit_dominant: Option<DtLimit>,
 }
 
-/// Every rule at every verdict Re for every kernel.
+/// Every rule at every verdict Re for every kernel, in each case.
 pub fn c0_compare(
     config: &Config,
     plan: &Plan,
@@ -243,74 +247,87 @@ pub fn c0_compare(
     rows: &[Row],
 ) -> Result<Vec<C0Compare>> {
     let mut out = Vec::new();
-    for (ki, info) in infos.iter().enumerate() {
-        for (ri, &re) in config.empirical.re.iter().enumerate() {
-            let point = Point {
-                index: 0,
-                kernel: info.name.to_string(),
-                n: config.maps.n,
-                re,
-                alpha: config.maps.alpha,
-                c0: PointC0::Spec("rule10".parse().expect("a rule")),
-            };
-            let scene = point.scene(&config.scene)?;
-            let table = c0_table(&scene)?;
-            let particles = crate::problem::lattice::Lattice::new(
-                scene.lattice,
-                scene.n_layers,
-                scene.d,
-                scene.h_over_d * scene.d,
-                info.support,
-            )
-            .n_particles() as f64;
-            // The table's rows are its discretisation's rules, in order.
-            let disc = scene.discretisation(info)?;
-            for (rule, t) in all_rules_on(info, disc).into_iter().zip(&table.rows) {
-                let run = plan.row(rows, |k| {
-                    k.kernel == ki
-                        && k.role
-                            == Role::Rule {
-                                re: ri,
-                                rule: rule.clone(),
-                            }
-                });
-                let ran = run.filter(|r| r.steps > 0);
-                out.push(C0Compare {
-                    kernel: info.name.to_string(),
-                    kernel_index: ki,
-                    re_index: ri,
-                    n: config.maps.n,
-                    re,
-                    alpha: config.maps.alpha,
-                    default_model: rule == C0Rule::Derived(Some(info.c0_default.to_string())),
-                    rule,
-                    c0_over_u: t.c0_over_u,
-                    dt: t.cost.as_ref().map_or(f64::NAN, |c| c.dt),
-                    dt_limit: t.cost.as_ref().map(|c| c.dt_limit),
-                    steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps),
-                    particle_steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps * particles),
-                    class: run.map(|r| r.class),
-                    reason: run.map(super::empirical::reason),
-                    linf_max: ran.map_or(f64::NAN, |r| r.linf_max),
-                    max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
-                    wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
-                    steps: ran.map_or(0, |r| r.steps),
-                    run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
-                });
+    for case in Case::ALL {
+        for (ki, &info) in infos.iter().enumerate() {
+            for ri in 0..config.empirical.re.len() {
+                out.extend(compare_at(config, plan, rows, (ki, info), case, ri)?);
             }
         }
     }
     Ok(out)
 }
 
+/// Every rule of kernel `ki` at `empirical.re[ri]` in case `case` (none
+/// when the kernel has no discretisation for it).
+fn compare_at(
+    config: &Config,
+    plan: &Plan,
+    rows: &[Row],
+    (ki, info): (usize, &'static KernelInfo),
+    case: Case,
+    ri: usize,
+) -> Result<Vec<C0Compare>> {
+    let Some((disc, on)) = case.disc.of(info) else {
+        return Ok(Vec::new());
+    };
+    let (m, re) = (&config.maps, config.empirical.re[ri]);
+    let c0 = PointC0::Spec("rule10".parse().expect("a rule"));
+    let point = Point {
+        disc,
+        ..Point::paper(0, info.name, m.n, re, m.alpha, c0)
+    };
+    let scene = point.scene(&config.scene)?;
+    let table = c0_table(&scene)?;
+    let particles = crate::problem::lattice::Lattice::new(
+        scene.lattice,
+        scene.n_layers,
+        scene.d,
+        scene.h_over_d * scene.d,
+        info.support,
+    )
+    .n_particles() as f64;
+    // The table's rows are its discretisation's rules, in order.
+    let mut out = Vec::new();
+    for (rule, t) in all_rules_on(info, on).into_iter().zip(&table.rows) {
+        let run = plan.rule_row(rows, ki, case, ri, &rule);
+        let ran = run.filter(|r| r.steps > 0);
+        let cost = t.cost.as_ref();
+        out.push(C0Compare {
+            kernel: info.name.to_string(),
+            kernel_index: ki,
+            re_index: ri,
+            case,
+            discretisation: on.label(),
+            n: m.n,
+            re,
+            alpha: m.alpha,
+            default_model: rule == C0Rule::Derived(Some(info.c0_default.to_string())),
+            rule,
+            c0_over_u: t.c0_over_u,
+            dt: cost.map_or(f64::NAN, |c| c.dt),
+            dt_limit: cost.map(|c| c.dt_limit),
+            steps_est: cost.map_or(f64::NAN, |c| c.steps),
+            particle_steps_est: cost.map_or(f64::NAN, |c| c.steps * particles),
+            class: run.map(|r| r.class),
+            reason: run.map(super::empirical::reason),
+            linf_max: ran.map_or(f64::NAN, |r| r.linf_max),
+            max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
+            wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
+            steps: ran.map_or(0, |r| r.steps),
+            run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
+        });
+    }
+    Ok(out)
+}
+
 pub fn c0_compare_csv(list: &[C0Compare]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant\n",
+        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant,discretisation,start\n",
     );
     for c in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&c.kernel),
             c.n,
             c.re,
@@ -328,7 +345,9 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.max_eps,
             c.wall_s,
             c.steps,
-            c.run_dt_limit_dominant.map_or("", DtLimit::name)
+            c.run_dt_limit_dominant.map_or("", DtLimit::name),
+            csv_field(&c.discretisation),
+            c.case.start_name()
         );
     }
     out

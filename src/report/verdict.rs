@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::empirical::{Criterion, Empirical};
-use super::plan::Config;
+use super::plan::{Case, Config};
 use super::tables::C0Compare;
 use crate::config::C0Rule;
 use crate::format::fmt_num;
@@ -16,9 +16,23 @@ use crate::sweep::Class;
 #[derive(Debug, Clone, Serialize)]
 pub struct Verdict {
     pub kernel: String,
-    /// One paragraph per verdict Re.
+    /// One paragraph per verdict Re: the paper's discretisation, perfect
+    /// lattice.
     pub at_re: Vec<VerdictAtRe>,
     /// One sentence over all of them.
+    pub summary: String,
+    /// The same for the other cases: the paper's discretisation perturbed,
+    /// and the square discretisation perfect and perturbed.
+    pub cases: Vec<CaseVerdict>,
+}
+
+/// The verdict of one case (a discretisation and a start).
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseVerdict {
+    pub discretisation: String,
+    /// `perfect`, or `perturbed` (each run's outcome the worst of its seeds').
+    pub start: &'static str,
+    pub at_re: Vec<VerdictAtRe>,
     pub summary: String,
 }
 
@@ -74,14 +88,13 @@ struct AtRe<'a> {
 
 impl<'a> AtRe<'a> {
     fn find(
-        kernel: usize,
-        re: usize,
+        (kernel, case, re): (usize, Case, usize),
         compare: &'a [C0Compare],
         empirical: &'a [Empirical],
     ) -> Self {
         let here: Vec<&C0Compare> = compare
             .iter()
-            .filter(|c| c.kernel_index == kernel && c.re_index == re)
+            .filter(|c| c.kernel_index == kernel && c.re_index == re && c.case == case)
             .collect();
         let rule = |r: C0Rule| here.iter().find(|c| c.rule == r).copied();
         AtRe {
@@ -95,7 +108,7 @@ impl<'a> AtRe<'a> {
                 .collect(),
             emp: empirical
                 .iter()
-                .find(|e| e.kernel_index == kernel && e.re_index == re),
+                .find(|e| e.kernel_index == kernel && e.re_index == re && e.case == case),
         }
     }
 }
@@ -107,18 +120,37 @@ pub fn verdicts(
     compare: &[C0Compare],
 ) -> Vec<Verdict> {
     let mut out = Vec::new();
-    for (ki, info) in infos.iter().enumerate() {
-        let at_re: Vec<VerdictAtRe> = config
-            .empirical
-            .re
+    for (ki, &info) in infos.iter().enumerate() {
+        let case_at = |case: Case| -> Vec<VerdictAtRe> {
+            config
+                .empirical
+                .re
+                .iter()
+                .enumerate()
+                .map(|(ri, &re)| {
+                    verdict_at(config, re, &AtRe::find((ki, case, ri), compare, empirical))
+                })
+                .collect()
+        };
+        let at_re = case_at(Case::PAPER);
+        let cases = Case::ALL[1..]
             .iter()
-            .enumerate()
-            .map(|(ri, &re)| verdict_at(config, re, &AtRe::find(ki, ri, compare, empirical)))
+            .filter_map(|&case| {
+                let (_, on) = case.disc.of(info)?;
+                let at_re = case_at(case);
+                Some(CaseVerdict {
+                    discretisation: on.label(),
+                    start: case.start_name(),
+                    summary: summary(info, &at_re),
+                    at_re,
+                })
+            })
             .collect();
         out.push(Verdict {
             kernel: info.name.to_string(),
             summary: summary(info, &at_re),
             at_re,
+            cases,
         });
     }
     out

@@ -5,9 +5,9 @@ use std::path::Path;
 
 use anyhow::Result;
 
-use super::figures::{map_cells, rule_lines};
+use super::figures::{map_cells, rule_lines_on};
 use super::html::{self, Figure};
-use super::plan::Role;
+use super::plan::{Case, Role};
 use super::{empirical, failure_picture, tables, ReportData};
 use crate::charts;
 use crate::output::write_atomic;
@@ -44,6 +44,7 @@ pub(super) fn write(d: &ReportData, out: &Path) -> Result<()> {
         figures: Vec::new(),
     };
     runs(d, &f)?;
+    answer(d, &mut f)?;
     figure4(d, &mut f)?;
     speed(d, &mut f)?;
     maps(d, &mut f)?;
@@ -105,43 +106,72 @@ fn speed(d: &ReportData, f: &mut Folder) -> Result<()> {
     Ok(())
 }
 
-/// A stability map per kernel, and where its method fails.
+/// A stability map per kernel and case, and where the method fails.
 fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
     let m = &d.config.maps;
-    for (ki, info) in d.infos.iter().enumerate() {
-        let k = info.name;
-        let here = d.plan.map_rows(&d.rows, ki, None);
-        let cells = map_cells(&here);
-        let lines = rule_lines(k, &d.config.scene, m.n, m.alpha, &m.re)?;
-        let marks: Vec<charts::MapMark> = d
-            .empirical
-            .iter()
-            .filter(|e| e.kernel_index == ki)
-            .filter_map(|e| {
-                e.c0_over_u
-                    .map(|c| (format!("empirical ({})", e.criterion), e.re, c))
-            })
-            .collect();
-        let title = format!(
-            "{k}: outcome over c0 / U and Re (N = {}, alpha = {})",
-            m.n, m.alpha
-        );
-        let svg = charts::map_svg(&title, &cells, &lines, &marks)?;
-        let (csv, lines_csv) = (
-            format!("stability_{k}.csv"),
-            format!("stability_{k}_lines.csv"),
-        );
-        f.put(&csv, &charts::map_csv(k, &cells))?;
-        f.put(&lines_csv, &charts::map_lines_csv(k, &lines))?;
-        f.figure(
-            "stability",
-            &format!("stability_{k}.svg"),
-            svg,
-            &[&csv, &lines_csv],
-        )?;
-        if let Some(svg) = failure_picture(d, &here)? {
-            f.figure("failure", &format!("failure_{k}.svg"), svg, &[])?;
+    for case in Case::ALL {
+        for (ki, &info) in d.infos.iter().enumerate() {
+            let Some((disc, on)) = case.disc.of(info) else {
+                continue;
+            };
+            let k = info.name;
+            let here = d.plan.map_rows(&d.rows, ki, case, None);
+            let cells = map_cells(&here);
+            let res: Vec<f64> = cells.iter().map(|c| c.re).collect();
+            let lines = rule_lines_on(k, disc, &d.config.scene, m.n, m.alpha, &res)?;
+            let marks: Vec<charts::MapMark> = d
+                .empirical
+                .iter()
+                .filter(|e| e.kernel_index == ki && e.case == case)
+                .filter_map(|e| {
+                    e.c0_over_u
+                        .map(|c| (format!("empirical ({})", e.criterion), e.re, c))
+                })
+                .collect();
+            let start = match case.perturbed {
+                false => "perfect lattice".to_string(),
+                true => d.config.perturbed_label(),
+            };
+            let title = format!(
+                "{k}: outcome over c0 / U and Re (N = {}, alpha = {}; {}, {start})",
+                m.n,
+                m.alpha,
+                on.label()
+            );
+            let svg = charts::map_svg(&title, &cells, &lines, &marks)?;
+            let name = format!("stability_{k}{}", case.file_suffix());
+            let (csv, lines_csv) = (format!("{name}.csv"), format!("{name}_lines.csv"));
+            f.put(&csv, &charts::map_csv(k, &cells))?;
+            f.put(&lines_csv, &charts::map_lines_csv(k, &lines))?;
+            f.figure(case.figure_id(), &format!("{name}.svg"), svg, &[&csv, &lines_csv])?;
+            if case == Case::PAPER {
+                let perturbed = d.plan.map_rows(&d.rows, ki, Case::ALL[1], None);
+                if let Some(svg) = failure_picture(d, &here, &perturbed)? {
+                    f.figure("failure", &format!("failure_{k}.svg"), svg, &[])?;
+                }
+            }
         }
+    }
+    Ok(())
+}
+
+/// The first screen: per kernel, c0 by every rule against the empirical
+/// bands, perfect and perturbed.
+fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
+    for (ki, info) in d.infos.iter().enumerate() {
+        let panels = super::answer::panels(d, ki);
+        let k = info.name;
+        let csv = format!("answer_{k}.csv");
+        f.put(&csv, &charts::rules_csv(k, &panels))?;
+        let title = format!(
+            "{}: c0 by every rule against the empirical ok band (N = {}, alpha = {}, {})",
+            info.title,
+            d.config.maps.n,
+            d.config.maps.alpha,
+            super::papers(info).map_or(String::new(), |p| p.label())
+        );
+        let svg = charts::rules_svg(&title, &panels, &d.config.perturbed_label())?;
+        f.figure("answer", &format!("answer_{k}.svg"), svg, &[&csv])?;
     }
     Ok(())
 }

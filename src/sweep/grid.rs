@@ -1,13 +1,16 @@
-//! A sweep's grid: the points (kernels x N x Re x alpha x c0) a spec spans,
-//! each with its stable id and scene, and the shard a job takes of them.
+//! A sweep's grid: the points (kernels x discretisation x N x Re x alpha x
+//! start x c0) a spec spans, each with its stable id, its position [`At`]
+//! and its scene, and the shard a job takes of them.
 
 use std::fmt;
 
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
+use super::axes::{At, Discretisation, HOverD, HOverDValue, Start};
 use super::ClassRules;
 use crate::config::{C0Spec, Scene, SceneError};
+use crate::kernel::Lattice;
 use crate::kernels;
 
 /// A point's sound speed: a rule in scene syntax (`derived`, `0.5*rule10`,
@@ -32,19 +35,49 @@ impl fmt::Display for PointC0 {
 pub struct Point {
     /// Position in the whole grid (before sharding).
     pub index: usize,
+    /// Position on each axis of the grid.
+    pub at: At,
     pub kernel: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
     pub c0: PointC0,
+    pub disc: Discretisation,
+    pub start: Start,
 }
 
 impl Point {
+    /// A point on the paper's discretisation from a perfect start, at
+    /// position `at` (the default when the caller keeps no grid).
+    pub fn paper(index: usize, kernel: &str, n: u32, re: f64, alpha: f64, c0: PointC0) -> Point {
+        Point {
+            index,
+            at: At::default(),
+            kernel: kernel.to_string(),
+            n,
+            re,
+            alpha,
+            c0,
+            disc: Discretisation::PAPER,
+            start: Start::Perfect,
+        }
+    }
+
     /// The stable key of this point: the same grid values give the same id.
+    /// The paper's discretisation from a perfect start has the id it had
+    /// before those axes existed (`monaghan/n=10/re=30/alpha=0.1/c0=rule10`,
+    /// so every earlier results.jsonl resumes); another one adds
+    /// `/lattice=square`, `/h=13/10`, `/jitter=0.05/seed=2`.
     pub fn id(&self) -> String {
         format!(
-            "{}/n={}/re={}/alpha={}/c0={}",
-            self.kernel, self.n, self.re, self.alpha, self.c0
+            "{}/n={}/re={}/alpha={}/c0={}{}{}",
+            self.kernel,
+            self.n,
+            self.re,
+            self.alpha,
+            self.c0,
+            self.disc.id_suffix(),
+            self.start.id_suffix()
         )
     }
 
@@ -58,6 +91,18 @@ impl Point {
         over.remove("p");
         over.insert("re".into(), Value::Float(self.re));
         over.insert("alpha".into(), Value::Float(self.alpha));
+        over.insert(
+            "lattice".into(),
+            Value::String(self.disc.lattice.name().into()),
+        );
+        over.insert(
+            "h_over_d".into(),
+            Value::String(self.disc.h_over_d.to_string()),
+        );
+        if let Start::Jittered { amplitude, seed } = self.start {
+            over.insert("jitter".into(), Value::Float(amplitude));
+            over.insert("jitter_seed".into(), Value::Integer(seed.into()));
+        }
         let mut scene = Scene::load(None, over)?;
         scene.c0 = match &self.c0 {
             PointC0::Spec(s) => s.clone(),
@@ -90,6 +135,20 @@ pub struct SweepSpec {
     /// Sound speeds as multiples of U.
     #[serde(default)]
     pub c0_over_u: Vec<f64>,
+    /// Starting lattices (`triangular`, `square`).
+    #[serde(default = "default_lattice")]
+    pub lattice: Vec<Lattice>,
+    /// h/d values, numbers or exact rationals (`"13/10"`); each with each
+    /// lattice must be a generated discretisation of every kernel. Stored
+    /// as the generated exact text.
+    #[serde(default = "default_h_over_d")]
+    pub h_over_d: Vec<HOverDValue>,
+    /// Jitter amplitudes of the start, in d (0: the perfect lattice).
+    #[serde(default = "default_jitter")]
+    pub jitter: Vec<f64>,
+    /// Seeds (1..=seeds) of each non-zero jitter amplitude.
+    #[serde(default = "default_seeds")]
+    pub seeds: u32,
     #[serde(default)]
     pub classes: ClassRules,
     /// Scene fields laid over the built-in scene for every point (e.g.
@@ -106,6 +165,37 @@ fn default_re() -> Vec<f64> {
 }
 fn default_alpha() -> Vec<f64> {
     vec![crate::config::DEFAULT_ALPHA]
+}
+fn default_lattice() -> Vec<Lattice> {
+    vec![Lattice::Triangular]
+}
+fn default_h_over_d() -> Vec<HOverDValue> {
+    vec![HOverDValue::Text("1".into())]
+}
+fn default_jitter() -> Vec<f64> {
+    vec![0.0]
+}
+/// Three seeds per amplitude, as `c0 --empirical` takes (see README: the
+/// verdict was the same with 3 and 5).
+fn default_seeds() -> u32 {
+    3
+}
+
+/// The exact h/d a value names: its own exact text, or the generated h/d
+/// of any kernel it equals to 1e-12 (the scene's lookup).
+fn exact_h_over_d(v: &HOverDValue) -> Option<HOverD> {
+    let x = match v {
+        HOverDValue::Text(t) => match HOverD::parse_exact(t) {
+            Some(h) => return Some(h),
+            None => crate::config::parse_h_over_d(t).ok()?,
+        },
+        HOverDValue::Number(x) => *x,
+    };
+    kernels::KERNELS
+        .iter()
+        .flat_map(|k| k.discretisations.iter())
+        .find(|d| (d.h_over_d - x).abs() <= 1e-12 * x.abs())
+        .and_then(|d| HOverD::parse_exact(d.h_over_d_exact))
 }
 
 impl Default for SweepSpec {
@@ -149,6 +239,9 @@ impl SweepSpec {
         check("n", self.n.is_empty())?;
         check("re", self.re.is_empty())?;
         check("alpha", self.alpha.is_empty())?;
+        check("lattice", self.lattice.is_empty())?;
+        check("h_over_d", self.h_over_d.is_empty())?;
+        check("jitter", self.jitter.is_empty())?;
         for (field, values) in [("re", &self.re), ("c0_over_u", &self.c0_over_u)] {
             if let Some(v) = values.iter().find(|v| !(**v > 0.0 && v.is_finite())) {
                 bail!("sweep field `{field}`: {v} must be a positive number");
@@ -161,6 +254,8 @@ impl SweepSpec {
         if self.n.contains(&0) {
             bail!("sweep field `n` (flag --n): 0 is not a number of layers; give N >= 1");
         }
+        self.resolve_discretisations()?;
+        self.check_starts()?;
         // A repeated value would run (and count) one point twice: an error,
         // for every list alike.
         fn dup<T: PartialEq + std::fmt::Debug>(field: &str, v: &[T]) -> Result<()> {
@@ -180,6 +275,9 @@ impl SweepSpec {
         dup("alpha", &self.alpha)?;
         dup("c0", &self.c0)?;
         dup("c0_over_u", &self.c0_over_u)?;
+        dup("lattice", &self.lattice)?;
+        dup("h_over_d", &self.h_over_d)?;
+        dup("jitter", &self.jitter)?;
         let b = self.classes.linf_bound;
         if !(b > 0.0 && b.is_finite()) {
             bail!(
@@ -194,11 +292,22 @@ impl SweepSpec {
                 crate::format::fmt_value(m)
             );
         }
-        for key in ["kernel", "n_layers", "re", "p", "alpha", "c0"] {
+        for (key, instead) in [
+            ("kernel", "kernels"),
+            ("n_layers", "n"),
+            ("re", "re"),
+            ("p", "re"),
+            ("alpha", "alpha"),
+            ("c0", "c0 or c0_over_u"),
+            ("lattice", "lattice"),
+            ("h_over_d", "h_over_d"),
+            ("jitter", "jitter"),
+            ("jitter_seed", "seeds"),
+        ] {
             if self.scene.contains_key(key) {
                 bail!(
-                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own list \
-                     (kernels, n, re, alpha, c0 or c0_over_u) instead"
+                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own \
+                     `{instead}` instead"
                 );
             }
         }
@@ -208,7 +317,80 @@ impl SweepSpec {
         Ok(self)
     }
 
-    /// Every point of the grid, in grid order (kernel, N, Re, alpha, c0).
+    /// Each h/d as the generated exact text, after checking that every
+    /// kernel has every lattice x h/d pair (else the scene's own error,
+    /// naming the line to add and the command to run).
+    fn resolve_discretisations(&mut self) -> Result<()> {
+        for v in &mut self.h_over_d {
+            let x = match v {
+                HOverDValue::Number(x) => *x,
+                HOverDValue::Text(t) => crate::config::parse_h_over_d(t).map_err(|e| {
+                    anyhow::anyhow!("sweep field `h_over_d` (flag --h-over-d): {e}")
+                })?,
+            };
+            for k in &self.kernels {
+                let info = crate::config::kernel_info(k)?;
+                for &lattice in &self.lattice {
+                    let d = crate::config::discretisation(info, lattice, x)
+                        .with_context(|| format!("sweep field `h_over_d` = {v}"))?;
+                    *v = HOverDValue::Text(d.h_over_d_exact.to_string());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every jitter amplitude by the scene's own guard, and seeds for the
+    /// non-zero ones.
+    fn check_starts(&self) -> Result<()> {
+        let base = Scene::load(None, self.scene.clone())
+            .context("sweep field `scene` does not make a valid scene")?;
+        for &a in &self.jitter {
+            crate::problem::check_fields(&Scene {
+                jitter: a,
+                ..base.clone()
+            })
+            .context("sweep field `jitter`")?;
+        }
+        if self.seeds == 0 && self.jitter.iter().any(|&a| a != 0.0) {
+            bail!(
+                "sweep field `seeds` (flag --seeds): 0 seeds give a non-zero jitter no start; \
+                 give at least 1 (3 by default)"
+            );
+        }
+        Ok(())
+    }
+
+    /// The grid's discretisations in order (lattice, then h/d), with their
+    /// indices.
+    fn discretisations(&self) -> Vec<(u32, u32, Discretisation)> {
+        let mut out = Vec::new();
+        for (li, &lattice) in (0..).zip(&self.lattice) {
+            for (hi, h) in (0..).zip(&self.h_over_d) {
+                let h_over_d = exact_h_over_d(h).expect("checked by resolved()");
+                out.push((li, hi, Discretisation { lattice, h_over_d }));
+            }
+        }
+        out
+    }
+
+    /// The grid's starts in order: per amplitude, the perfect lattice for
+    /// 0, else seeds 1..=seeds; with the amplitude's index.
+    fn starts(&self) -> Vec<(u32, Start)> {
+        let mut out = Vec::new();
+        for (ji, &amplitude) in (0..).zip(&self.jitter) {
+            if amplitude == 0.0 {
+                out.push((ji, Start::Perfect));
+            } else {
+                out.extend((1..=self.seeds).map(|seed| (ji, Start::Jittered { amplitude, seed })));
+            }
+        }
+        out
+    }
+
+    /// Every point of the grid, in grid order (kernel, lattice, h/d, N, Re,
+    /// alpha, start, c0): with one lattice, h/d and start the order, and so
+    /// the index, of the grid before those axes.
     pub fn points(&self) -> Vec<Point> {
         let mut c0s: Vec<PointC0> = self
             .c0
@@ -216,20 +398,39 @@ impl SweepSpec {
             .map(|c| PointC0::Spec(c.parse().expect("checked by resolved()")))
             .collect();
         c0s.extend(self.c0_over_u.iter().map(|&x| PointC0::OverU(x)));
+        let (discs, starts) = (self.discretisations(), self.starts());
         let mut out = Vec::new();
-        for kernel in &self.kernels {
-            for &n in &self.n {
-                for &re in &self.re {
-                    for &alpha in &self.alpha {
-                        for c0 in &c0s {
-                            out.push(Point {
-                                index: out.len(),
-                                kernel: kernel.clone(),
-                                n,
-                                re,
-                                alpha,
-                                c0: c0.clone(),
-                            });
+        for (ki, kernel) in (0..).zip(&self.kernels) {
+            for &(li, hi, disc) in &discs {
+                for (ni, &n) in (0..).zip(&self.n) {
+                    for (ri, &re) in (0..).zip(&self.re) {
+                        for (ai, &alpha) in (0..).zip(&self.alpha) {
+                            for &(ji, start) in &starts {
+                                for (ci, c0) in (0..).zip(&c0s) {
+                                    let (_, seed) = start.jitter();
+                                    out.push(Point {
+                                        index: out.len(),
+                                        at: At {
+                                            kernel: ki,
+                                            lattice: li,
+                                            h_over_d: hi,
+                                            n: ni,
+                                            re: ri,
+                                            alpha: ai,
+                                            jitter: ji,
+                                            seed,
+                                            c0: ci,
+                                        },
+                                        kernel: kernel.clone(),
+                                        n,
+                                        re,
+                                        alpha,
+                                        c0: c0.clone(),
+                                        disc,
+                                        start,
+                                    });
+                                }
+                            }
                         }
                     }
                 }
@@ -315,6 +516,130 @@ impl Shard {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn new_axes_suffix_the_id_and_refuse_ungenerated_pairs() {
+        let spec = SweepSpec {
+            kernels: vec!["monaghan".into()],
+            n: vec![10],
+            re: vec![1.0],
+            c0: vec!["derived".into()],
+            lattice: vec![Lattice::Triangular, Lattice::Square],
+            h_over_d: vec![HOverDValue::Number(1.0), HOverDValue::Number(1.3)],
+            jitter: vec![0.0, 0.05],
+            seeds: 2,
+            ..SweepSpec::default()
+        }
+        .resolved()
+        .unwrap();
+        assert_eq!(
+            spec.h_over_d,
+            vec![
+                HOverDValue::Text("1".into()),
+                HOverDValue::Text("13/10".into())
+            ],
+            "stored as the generated exact text"
+        );
+        let points = spec.points();
+        assert_eq!(points.len(), 2 * 2 * 3);
+        let ids: Vec<String> = points.iter().map(Point::id).collect();
+        // a main-era id, unchanged
+        assert_eq!(ids[0], "monaghan/n=10/re=1/alpha=0.1/c0=derived");
+        assert!(ids.contains(&"monaghan/n=10/re=1/alpha=0.1/c0=derived/lattice=square/h=13/10/jitter=0.05/seed=2".to_string()), "{ids:?}");
+        assert!(
+            ids.contains(&"monaghan/n=10/re=1/alpha=0.1/c0=derived/h=13/10".to_string()),
+            "{ids:?}"
+        );
+        let p = points
+            .iter()
+            .find(|p| p.id().ends_with("square/h=13/10/jitter=0.05/seed=2"))
+            .unwrap();
+        assert_eq!(
+            (p.at.lattice, p.at.h_over_d, p.at.jitter, p.at.seed),
+            (1, 1, 1, 2)
+        );
+        let scene = p.scene(&spec.scene).unwrap();
+        assert_eq!(
+            (
+                scene.lattice,
+                scene.h_over_d,
+                scene.jitter,
+                scene.jitter_seed
+            ),
+            (Lattice::Square, 1.3, 0.05, 2)
+        );
+        // seeds of one point share their key without the seed
+        let seeds: Vec<&Point> = points
+            .iter()
+            .filter(|q| q.at.without_seed() == p.at.without_seed())
+            .collect();
+        assert_eq!(seeds.len(), 2);
+
+        // h = 17/10 exists on the square lattice only: the scene's message
+        let e = SweepSpec {
+            h_over_d: vec![HOverDValue::Text("17/10".into())],
+            ..SweepSpec::default()
+        }
+        .resolved()
+        .unwrap_err();
+        let e = format!("{e:#}");
+        assert!(
+            e.contains("no generated discretisation with lattice = \"triangular\""),
+            "{e}"
+        );
+        assert!(e.contains("kernels/discretisations.toml"), "{e}");
+        // the scene's guards on the jitter, and seeds for it
+        for (spec, says) in [
+            (
+                SweepSpec {
+                    jitter: vec![0.5],
+                    ..SweepSpec::default()
+                },
+                "must be in [0, 0.5)",
+            ),
+            (
+                SweepSpec {
+                    jitter: vec![0.05],
+                    seeds: 0,
+                    ..SweepSpec::default()
+                },
+                "at least 1",
+            ),
+            (
+                SweepSpec {
+                    jitter: vec![0.05, 0.05],
+                    ..SweepSpec::default()
+                },
+                "twice",
+            ),
+            (
+                SweepSpec {
+                    lattice: vec![],
+                    ..SweepSpec::default()
+                },
+                "`lattice` is empty",
+            ),
+            (
+                SweepSpec {
+                    h_over_d: vec![HOverDValue::Text("1".into()), HOverDValue::Number(1.0)],
+                    ..SweepSpec::default()
+                },
+                "twice",
+            ),
+        ] {
+            let e = format!("{:#}", spec.resolved().unwrap_err());
+            assert!(e.contains(says), "{e}");
+        }
+        let mut scene = toml::Table::new();
+        scene.insert("jitter".into(), toml::Value::Float(0.1));
+        let e = SweepSpec {
+            scene,
+            ..SweepSpec::default()
+        }
+        .resolved()
+        .unwrap_err();
+        assert!(e.to_string().contains("`scene.jitter`"), "{e}");
+    }
 
     #[test]
     fn shard_auto_reads_the_slurm_array() {

@@ -16,14 +16,16 @@
 //! ignored and dropped on resume); `results.csv` is rewritten atomically from
 //! it when the sweep ends or stops.
 
+pub mod axes;
 mod grid;
 mod row;
 pub mod store;
 
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
+pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
 pub use grid::{Point, PointC0, Shard, SweepSpec};
-pub use row::Row;
+pub use row::{worst_over_seeds, OverSeeds, Row};
 
 use std::collections::BTreeSet;
 use std::panic::{self, AssertUnwindSafe};

@@ -3,7 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::axes::{At, HOverD, Start};
 use super::{Class, ClassRules, Point};
+use crate::kernel::Lattice;
 use crate::problem::cost::DtLimit;
 use crate::solver::{self, FailureKind, RunResult};
 
@@ -20,6 +22,22 @@ pub struct Row {
     pub re: f64,
     #[serde(with = "nan_null")]
     pub alpha: f64,
+    /// The discretisation (rows written before it was an axis: the paper's).
+    #[serde(default)]
+    pub lattice: Lattice,
+    #[serde(default = "h_one")]
+    pub h_over_d: HOverD,
+    /// The start: jitter amplitude in d (0: the perfect lattice) and seed
+    /// (0 for the perfect lattice, else 1..=seeds).
+    #[serde(default)]
+    pub jitter: f64,
+    #[serde(default)]
+    pub seed: u32,
+    /// The point's position on the grid's axes: the key to join rows by.
+    /// Not stored: given by the run, or on reading by the point of the
+    /// grid with this row's id.
+    #[serde(skip)]
+    pub at: At,
     /// The c0 as gridded: a rule (`derived`, `rule10`, `0.5*table2`), a
     /// number, or a multiple of U (`3U`).
     pub c0_spec: String,
@@ -75,6 +93,10 @@ pub struct Row {
     pub wall_s: f64,
 }
 
+fn h_one() -> HOverD {
+    HOverD::ONE
+}
+
 /// f64 fields in JSON: non-finite values as `null`, `null` read as NaN.
 mod nan_null {
     use serde::{Deserialize, Deserializer, Serializer};
@@ -106,6 +128,11 @@ impl Row {
             n: point.n,
             re: point.re,
             alpha: point.alpha,
+            lattice: point.disc.lattice,
+            h_over_d: point.disc.h_over_d,
+            jitter: point.start.jitter().0,
+            seed: point.start.jitter().1,
+            at: point.at,
             c0_spec: point.c0.to_string(),
             c0_rule,
             c0,
@@ -166,6 +193,11 @@ impl Row {
             n: pr.lattice.n_layers,
             re: point.re,
             alpha: pr.alpha,
+            lattice: point.disc.lattice,
+            h_over_d: point.disc.h_over_d,
+            jitter: point.start.jitter().0,
+            seed: point.start.jitter().1,
+            at: point.at,
             c0_spec: point.c0.to_string(),
             c0_rule: pr.c0_rule.clone(),
             c0: pr.c0,
@@ -190,6 +222,18 @@ impl Row {
         }
     }
 
+    /// The row's start.
+    pub fn start(&self) -> Start {
+        if self.jitter == 0.0 {
+            Start::Perfect
+        } else {
+            Start::Jittered {
+                amplitude: self.jitter,
+                seed: self.seed,
+            }
+        }
+    }
+
     /// The row as JSON with the wall-clock time left out: what two runs of
     /// the same point agree on.
     pub fn without_timing(&self) -> serde_json::Value {
@@ -198,5 +242,121 @@ impl Row {
             .expect("a row is an object")
             .remove("wall_s");
         v
+    }
+}
+
+/// A point's outcome over its starts' seeds (rows that share
+/// [`At::without_seed`]): the perfect start is a group of one.
+#[derive(Debug, Clone)]
+pub struct OverSeeds<'a> {
+    /// The rows' common position, with seed 0.
+    pub at: At,
+    /// The worst class over the seeds: failed > over-compressed >
+    /// inaccurate > ok.
+    pub class: Class,
+    /// The row that had it: its failure kind and reason, its errors. Among
+    /// seeds of the same class, the one with the larger worst L_inf error
+    /// (NaN the largest), then the lower seed.
+    pub worst: &'a Row,
+    /// Every seed's row, in the order given.
+    pub rows: Vec<&'a Row>,
+}
+
+/// Fold `rows` over seeds: one [`OverSeeds`] per point without its seed,
+/// in the order of each group's first row.
+pub fn worst_over_seeds(rows: &[Row]) -> Vec<OverSeeds<'_>> {
+    fn worse(a: &Row, b: &Row) -> bool {
+        let err = |r: &Row| {
+            if r.linf_max.is_nan() {
+                f64::INFINITY
+            } else {
+                r.linf_max
+            }
+        };
+        (a.class, err(a), std::cmp::Reverse(a.seed)) > (b.class, err(b), std::cmp::Reverse(b.seed))
+    }
+    let mut out: Vec<OverSeeds> = Vec::new();
+    let mut group: std::collections::HashMap<At, usize> = std::collections::HashMap::new();
+    for r in rows {
+        let at = r.at.without_seed();
+        match group.get(&at) {
+            Some(&i) => {
+                let g = &mut out[i];
+                g.rows.push(r);
+                if worse(r, g.worst) {
+                    g.worst = r;
+                    g.class = r.class;
+                }
+            }
+            None => {
+                group.insert(at, out.len());
+                out.push(OverSeeds {
+                    at,
+                    class: r.class,
+                    worst: r,
+                    rows: vec![r],
+                });
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::{Discretisation, PointC0};
+
+    #[test]
+    fn a_perturbed_point_is_its_worst_seed() {
+        let row = |seed: u32, class: Class, linf_max: f64, reason: &str| {
+            let mut p = Point::paper(0, "monaghan", 10, 1.0, 0.1, PointC0::OverU(1.0));
+            p.disc = Discretisation::PAPER;
+            if seed > 0 {
+                p.start = Start::Jittered {
+                    amplitude: 0.05,
+                    seed,
+                };
+                p.at.jitter = 1;
+                p.at.seed = seed;
+            }
+            let mut r = Row::not_run(&p, FailureKind::Scene, reason.into(), 1.0, "value".into());
+            r.class = class;
+            r.linf_max = linf_max;
+            r
+        };
+        let rows = vec![
+            row(0, Class::Ok, 0.01, "perfect"),
+            row(1, Class::Inaccurate, 0.07, "one"),
+            row(2, Class::OverCompressed, 0.02, "two"),
+            row(3, Class::Inaccurate, 0.09, "three"),
+            row(4, Class::OverCompressed, 0.03, "four"),
+        ];
+        let folded = worst_over_seeds(&rows);
+        assert_eq!(folded.len(), 2);
+        assert_eq!((folded[0].class, folded[0].rows.len()), (Class::Ok, 1));
+        let p = &folded[1];
+        assert_eq!(
+            (p.class, p.rows.len(), p.at.seed),
+            (Class::OverCompressed, 4, 0)
+        );
+        assert_eq!(
+            p.worst.failure_reason.as_deref(),
+            Some("four"),
+            "ties: the larger error"
+        );
+        // failed beats every other class, whatever the errors
+        let mut rows = rows;
+        rows.push(row(5, Class::Failed, f64::NAN, "five"));
+        rows[1].linf_max = 10.0;
+        let folded = worst_over_seeds(&rows);
+        assert_eq!(folded[1].class, Class::Failed);
+        assert_eq!(folded[1].worst.failure_reason.as_deref(), Some("five"));
+        // inaccurate only over ok
+        let folded = worst_over_seeds(&rows[..2]);
+        assert_eq!(
+            folded.iter().map(|g| g.class).collect::<Vec<_>>(),
+            [Class::Ok, Class::Inaccurate]
+        );
     }
 }

@@ -96,6 +96,10 @@ pub const CSV_COLUMNS: &[&str] = &[
     "n",
     "re",
     "alpha",
+    "lattice",
+    "h_over_d",
+    "jitter",
+    "seed",
     "c0_spec",
     "c0_rule",
     "c0",
@@ -128,6 +132,10 @@ fn csv_fields(r: &Row) -> Vec<String> {
         r.n.to_string(),
         f(r.re),
         f(r.alpha),
+        r.lattice.name().to_string(),
+        r.h_over_d.to_string(),
+        f(r.jitter),
+        r.seed.to_string(),
         r.c0_spec.clone(),
         r.c0_rule.clone(),
         f(r.c0),
@@ -176,6 +184,19 @@ pub fn rows_csv(rows: &[Row]) -> String {
         let _ = writeln!(out, "{}", line.join(","));
     }
     out
+}
+
+/// The rows whose id is a point of `spec`'s grid, each given that point's
+/// position [`Row::at`] (not stored: the id is).
+pub fn on_grid(spec: &SweepSpec, rows: Vec<Row>) -> Vec<Row> {
+    let at: std::collections::BTreeMap<String, crate::sweep::At> =
+        spec.points().iter().map(|p| (p.id(), p.at)).collect();
+    rows.into_iter()
+        .filter_map(|mut r| {
+            r.at = *at.get(&r.id)?;
+            Some(r)
+        })
+        .collect()
 }
 
 /// Rows in grid order, one per id (the first of duplicates).
@@ -243,10 +264,8 @@ pub fn open(dir: &Path, spec: Option<SweepSpec>, force: bool) -> Result<(SweepSp
                 }
             }
             let rows = read_rows(&dir.join(JSONL_FILE))?;
-            let ids: std::collections::BTreeSet<String> =
-                stored.points().iter().map(|p| p.id()).collect();
             let total = rows.len();
-            let rows: Vec<Row> = rows.into_iter().filter(|r| ids.contains(&r.id)).collect();
+            let rows = on_grid(&stored, rows);
             if rows.len() < total {
                 eprintln!(
                     "warning: {} row(s) of {} have an id that is not a point of this sweep's grid: \
@@ -299,7 +318,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Ve
         }
         rows.extend(read_rows(&dir.join(JSONL_FILE))?);
     }
-    let rows = canonical(rows);
+    let rows = canonical(on_grid(&spec, rows));
     prepare_dir(out, force)?;
     write_atomic(&out.join(SPEC_FILE), spec.to_toml().as_bytes())?;
     let mut jsonl = String::new();

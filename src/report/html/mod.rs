@@ -3,6 +3,7 @@
 
 use std::fmt::Write as _;
 
+mod answer;
 mod paper;
 mod runs;
 
@@ -115,13 +116,16 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         d.rows.len(),
         d.empirical.iter().map(|e| e.runs.len()).sum::<usize>()
     );
-    h.push_str("<p>Contents: <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
+    h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
 
+    answer::answer(&mut h, d, figures);
     runs::verdicts(&mut h, d);
     paper::table1(&mut h, d);
     paper::table2(&mut h, d);
     runs::c0_by_rule(&mut h, d);
     paper::square_section(&mut h, &d.infos);
+    h.push_str(&figures_html(figures, "stability_square"));
+    h.push_str(&figures_html(figures, "stability_square_perturbed"));
     runs::figure4(&mut h, d, figures);
     runs::speed(&mut h, d, figures);
     runs::maps(&mut h, d, figures);

@@ -22,24 +22,8 @@ pub(super) fn verdicts(h: &mut String, d: &ReportData) {
             esc(&v.kernel),
             esc(&v.summary)
         );
-        for a in &v.at_re {
-            let _ = writeln!(
-                h,
-                "<p><b>Re = {}</b> (N = {}, alpha = {}):</p><ul>",
-                num(a.re),
-                a.n,
-                a.alpha
-            );
-            let last = a.sentences.len().saturating_sub(1);
-            for (k, sentence) in a.sentences.iter().enumerate() {
-                if k == last {
-                    let _ = writeln!(h, "<li><b>{}</b></li>", esc(sentence));
-                } else {
-                    let _ = writeln!(h, "<li>{}</li>", esc(sentence));
-                }
-            }
-            h.push_str("</ul>\n");
-        }
+        super::answer::at_re_html(h, &v.at_re);
+        super::answer::cases(h, d, &v.kernel);
         h.push_str("</div>\n");
     }
 }
@@ -59,7 +43,7 @@ pub(super) fn c0_by_rule(h: &mut String, d: &ReportData) {
         let _ = writeln!(
             h,
             "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td></tr>",
-            esc(&r.kernel),
+            esc(&format!("{} ({}, {})", r.kernel, r.discretisation, r.case.start_name())),
             num(r.re),
             esc(&r.rule.to_string()),
             if r.default_model { " (default)" } else { "" },
@@ -127,8 +111,16 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
         class_hex(Class::Failed)
     );
     h.push_str(&figures_html(figures, "stability"));
+    let _ = writeln!(
+        h,
+        "<h3 id=\"maps-perturbed\">Perturbed starts</h3>\n<p>The same maps from starts jittered by up to {} d ({} seeds each), at Re in {{{}}}: each cell the worst class over its seeds; ringed, the smallest c0 ok on every seed.</p>",
+        c.perturbed.jitter,
+        c.perturbed.seeds,
+        c.perturbed.re.iter().map(|r| num(*r)).collect::<Vec<_>>().join(", ")
+    );
+    h.push_str(&figures_html(figures, "stability_perturbed"));
     if figures.iter().any(|f| f.id == "failure") {
-        h.push_str("<h3 id=\"failures\">Where the method fails</h3>\n<p>Per kernel, the first run of its stability map that the solver stopped (first in grid order), run again with the same scene and drawn at the failure: fluid particles coloured by the compaction eps, walls grey, the particle that triggered the failure ringed in red.</p>\n");
+        h.push_str("<h3 id=\"failures\">Where the method fails</h3>\n<p>Per kernel, the first run of its stability map that the solver stopped (first in grid order; of the perturbed map, its worst seed, when none on the perfect lattice failed), run again with the same scene and drawn at the failure: fluid particles coloured by the compaction eps, walls grey, the particle that triggered the failure ringed in red.</p>\n");
         h.push_str(&figures_html(figures, "failure"));
     }
 }
@@ -155,7 +147,7 @@ pub(super) fn empirical(h: &mut String, d: &ReportData) {
         let _ = writeln!(
             h,
             "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td><b>{}</b></td><td>{}</td><td class=\"l wrap\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td><td class=\"l\">{}</td></tr>",
-            esc(&e.kernel),
+            esc(&format!("{} ({}, {})", e.kernel, e.discretisation, e.case.start_name())),
             num(e.re),
             e.criterion,
             e.c0_over_u.map_or("none".into(), num),
