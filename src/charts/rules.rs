@@ -77,13 +77,20 @@ pub fn rules_csv(kernel: &str, panels: &[RulesPanel]) -> String {
 /// triangle below it for the perturbed one's; the bands shaded), the
 /// legend on the right. `perturbed` names the perturbation for the legend.
 pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<String> {
-    let n = panels.iter().map(|p| p.rules.len()).max().unwrap_or(0).max(1);
+    let n = panels
+        .iter()
+        .map(|p| p.rules.len())
+        .max()
+        .unwrap_or(0)
+        .max(1);
     let (xlo, xhi) = log_range(
         panels.iter().flat_map(|p| {
-            p.rules
-                .iter()
-                .filter_map(|r| r.c0_over_u)
-                .chain([p.perfect, p.perturbed].into_iter().flatten().flat_map(|b| [b.lo, b.hi]))
+            p.rules.iter().filter_map(|r| r.c0_over_u).chain(
+                [p.perfect, p.perturbed]
+                    .into_iter()
+                    .flatten()
+                    .flat_map(|b| [b.lo, b.hi]),
+            )
         }),
         1.6,
     );
@@ -102,7 +109,10 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
         for (area, p) in areas.iter().zip(panels) {
             let (x_coord, x_axis) = LogAxis::new(xlo, xhi, 6);
             let mut chart = ChartBuilder::on(area)
-                .caption(format!("Re = {}", crate::format::fmt_num(p.re)), ("sans-serif", 14))
+                .caption(
+                    format!("Re = {}", crate::format::fmt_num(p.re)),
+                    ("sans-serif", 14),
+                )
                 .margin(8)
                 .x_label_area_size(36)
                 .y_label_area_size(0)
@@ -133,11 +143,9 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
                 let y = y_of(i);
                 let color = |k: Option<Class>| k.map_or(NOT_RUN, class_color);
                 chart
-                    .draw_series([
-                        EmptyElement::at((c, y))
-                            + Circle::new((0, -5), 5, color(r.perfect).filled())
-                            + TriangleMarker::new((0, 6), 5, color(r.perturbed).filled()),
-                    ])
+                    .draw_series([EmptyElement::at((c, y))
+                        + Circle::new((0, -5), 5, color(r.perfect).filled())
+                        + TriangleMarker::new((0, 6), 5, color(r.perturbed).filled())])
                     .map_err(chart_err)?;
             }
             if row_px.is_empty() {
@@ -168,10 +176,16 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
         entries.push((Mark::Square(NOT_RUN), "not run".into()));
         entries.push((Mark::Heading, String::new()));
         entries.push((Mark::Dot(RGBColor(60, 60, 60)), "perfect lattice".into()));
-        entries.push((Mark::Triangle(RGBColor(60, 60, 60)), format!("perturbed: {perturbed}")));
+        entries.push((
+            Mark::Triangle(RGBColor(60, 60, 60)),
+            format!("perturbed: {perturbed}"),
+        ));
         entries.push((Mark::Heading, String::new()));
         entries.push((Mark::Heading, "ok band (empirical)".into()));
-        entries.push((Mark::Square(RGBColor(222, 240, 225)), "perfect lattice".into()));
+        entries.push((
+            Mark::Square(RGBColor(222, 240, 225)),
+            "perfect lattice".into(),
+        ));
         entries.push((Mark::Square(RGBColor(175, 218, 183)), "perturbed".into()));
         draw_legend(&legend, &entries)?;
         root.present().map_err(chart_err)?;

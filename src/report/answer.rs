@@ -158,7 +158,13 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
         ),
         (None, _) => "No c0 tried ran ok on the perfect lattice.".to_string(),
     });
-    let list = |v: &[String]| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+    let list = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
     s.push(format!(
         "Sufficient (ok on the perfect lattice and on every perturbed seed): {}.",
         list(&sufficient)

@@ -23,7 +23,7 @@ use serde::Serialize;
 use super::plan::{worst, Case, Config, Plan};
 use crate::kernel::KernelInfo;
 use crate::sweep::store::csv_field;
-use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
+use crate::sweep::{run_point, Class, Discretisation, Parallel, Point, PointC0, Row};
 
 /// The result for one kernel at one Re.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +39,9 @@ pub struct Empirical {
     /// its worst over the seeds.
     #[serde(skip)]
     pub case: Case,
-    /// The discretisation's label ("triangular, h = d").
+    /// The discretisation, and its label ("triangular, h = d").
+    #[serde(skip)]
+    pub disc: Discretisation,
     pub discretisation: String,
     pub n: u32,
     pub re: f64,
@@ -256,7 +258,16 @@ fn find_one(
         kernel_index: t.kernel,
         re_index: t.re_index,
         case: t.case,
-        discretisation: t.case.disc.of(t.info).map_or(String::new(), |(_, on)| on.label()),
+        disc: t
+            .case
+            .disc
+            .of(t.info)
+            .map_or_else(Default::default, |(d, _)| d),
+        discretisation: t
+            .case
+            .disc
+            .of(t.info)
+            .map_or(String::new(), |(_, on)| on.label()),
         n: config.maps.n,
         re: t.re,
         alpha: config.maps.alpha,
@@ -375,13 +386,13 @@ pub fn reason(r: &Row) -> String {
 
 pub fn csv(list: &[Empirical]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below,discretisation,start\n",
+        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below,lattice,h_over_d,start\n",
     );
     let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for e in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&e.kernel),
             e.n,
             e.re,
@@ -404,7 +415,8 @@ pub fn csv(list: &[Empirical]) -> String {
                     .collect::<Vec<_>>()
                     .join(" ")
             ),
-            csv_field(&e.discretisation),
+            e.disc.lattice.name(),
+            e.disc.h_over_d,
             e.case.start_name()
         );
     }

@@ -124,7 +124,10 @@ impl Config {
                 bail!("empirical.re = {re} is not one of maps.re: the bisection starts from the map's row at that Re");
             }
         }
-        for (field, list) in [("perturbed.re", &self.perturbed.re), ("square.re", &self.square.re)] {
+        for (field, list) in [
+            ("perturbed.re", &self.perturbed.re),
+            ("square.re", &self.square.re),
+        ] {
             if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
                 bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
             }
@@ -203,7 +206,9 @@ impl Config {
             (!case.perturbed || self.perturbed.re.contains(re))
                 && (case.disc == Disc::Paper || self.square.re.contains(re))
         };
-        (0..self.maps.re.len()).filter(|&i| keep(&self.maps.re[i])).collect()
+        (0..self.maps.re.len())
+            .filter(|&i| keep(&self.maps.re[i]))
+            .collect()
     }
 
     /// Every scene of the report but the bisection's, each once, with its
@@ -303,7 +308,10 @@ pub enum Disc {
 impl Disc {
     /// The kernel's discretisation of this kind, as a point takes it and as
     /// generated; `None` when none is generated.
-    pub fn of(self, info: &'static KernelInfo) -> Option<(Discretisation, &'static DiscretisationInfo)> {
+    pub fn of(
+        self,
+        info: &'static KernelInfo,
+    ) -> Option<(Discretisation, &'static DiscretisationInfo)> {
         let on = match self {
             Disc::Paper => super::papers(info)?,
             Disc::Square => super::square_discretisation(info)?,

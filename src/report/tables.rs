@@ -14,7 +14,7 @@ use crate::kernel::{Derived, KernelInfo};
 use crate::problem::c0::{all_rules_on, table as c0_table};
 use crate::problem::cost::DtLimit;
 use crate::sweep::store::csv_field;
-use crate::sweep::{Class, Point, PointC0, Row};
+use crate::sweep::{Class, Discretisation, Point, PointC0, Row};
 
 /// Decimal places of a printed number (`"0.029873"` has 6).
 fn decimals(printed: &str) -> u32 {
@@ -217,6 +217,7 @@ pub struct C0Compare {
     /// The discretisation and start of the run; perturbed: the worst of
     /// its seeds' runs.
     pub case: Case,
+    pub disc: Discretisation,
     pub discretisation: String,
     pub n: u32,
     pub re: f64,
@@ -297,6 +298,7 @@ fn compare_at(
             kernel_index: ki,
             re_index: ri,
             case,
+            disc,
             discretisation: on.label(),
             n: m.n,
             re,
@@ -322,12 +324,12 @@ fn compare_at(
 
 pub fn c0_compare_csv(list: &[C0Compare]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant,discretisation,start\n",
+        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant,lattice,h_over_d,start\n",
     );
     for c in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&c.kernel),
             c.n,
             c.re,
@@ -346,7 +348,8 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.wall_s,
             c.steps,
             c.run_dt_limit_dominant.map_or("", DtLimit::name),
-            csv_field(&c.discretisation),
+            c.disc.lattice.name(),
+            c.disc.h_over_d,
             c.case.start_name()
         );
     }

@@ -143,7 +143,12 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
             let (csv, lines_csv) = (format!("{name}.csv"), format!("{name}_lines.csv"));
             f.put(&csv, &charts::map_csv(k, &cells))?;
             f.put(&lines_csv, &charts::map_lines_csv(k, &lines))?;
-            f.figure(case.figure_id(), &format!("{name}.svg"), svg, &[&csv, &lines_csv])?;
+            f.figure(
+                case.figure_id(),
+                &format!("{name}.svg"),
+                svg,
+                &[&csv, &lines_csv],
+            )?;
             if case == Case::PAPER {
                 let perturbed = d.plan.map_rows(&d.rows, ki, Case::ALL[1], None);
                 if let Some(svg) = failure_picture(d, &here, &perturbed)? {
