@@ -199,7 +199,7 @@ pub fn find_all(
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    for case in Case::ALL {
+    for case in config.cases() {
         for (kernel, &info) in infos.iter().enumerate() {
             if case.disc.of(info).is_none() {
                 continue;

@@ -56,7 +56,8 @@ pub struct PerturbedConfig {
 
 /// The square lattice: the stability map (at `re`), the verdict rules and
 /// the empirical c0 on one square discretisation per kernel
-/// ([`super::square_discretisation`]), perfect and perturbed.
+/// ([`super::square_discretisation`]), perfect and perturbed; none when
+/// `re` is empty.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SquareConfig {
@@ -192,6 +193,13 @@ impl Config {
         }
     }
 
+    /// The cases the report runs: the paper's discretisation perfect and
+    /// perturbed, then the square one's (unless `square.re` is empty).
+    pub fn cases(&self) -> Vec<Case> {
+        let n = if self.square.re.is_empty() { 2 } else { 4 };
+        Case::ALL[..n].to_vec()
+    }
+
     /// The perturbation in words: "jittered by 0.05 d, worst of 3 seeds".
     pub fn perturbed_label(&self) -> String {
         format!(
@@ -251,7 +259,7 @@ impl Config {
                     }
                 }
             }
-            for case in Case::ALL {
+            for case in self.cases() {
                 let Some((disc, on)) = case.disc.of(info) else {
                     continue;
                 };

@@ -248,7 +248,7 @@ pub fn c0_compare(
     rows: &[Row],
 ) -> Result<Vec<C0Compare>> {
     let mut out = Vec::new();
-    for case in Case::ALL {
+    for case in config.cases() {
         for (ki, &info) in infos.iter().enumerate() {
             for ri in 0..config.empirical.re.len() {
                 out.extend(compare_at(config, plan, rows, (ki, info), case, ri)?);

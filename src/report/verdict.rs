@@ -133,7 +133,7 @@ pub fn verdicts(
                 .collect()
         };
         let at_re = case_at(Case::PAPER);
-        let cases = Case::ALL[1..]
+        let cases = config.cases()[1..]
             .iter()
             .filter_map(|&case| {
                 let (_, on) = case.disc.of(info)?;

@@ -109,7 +109,7 @@ fn speed(d: &ReportData, f: &mut Folder) -> Result<()> {
 /// A stability map per kernel and case, and where the method fails.
 fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
     let m = &d.config.maps;
-    for case in Case::ALL {
+    for case in d.config.cases() {
         for (ki, &info) in d.infos.iter().enumerate() {
             let Some((disc, on)) = case.disc.of(info) else {
                 continue;
@@ -163,6 +163,15 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
 /// The first screen: per kernel, c0 by every rule against the empirical
 /// bands, perfect and perturbed.
 fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
+    let words: Vec<serde_json::Value> = (0..d.infos.len())
+        .map(|ki| {
+            serde_json::json!({
+                "kernel": d.infos[ki].name,
+                "answer": super::answer::answers(d, ki),
+            })
+        })
+        .collect();
+    f.put("answer.json", &serde_json::to_string_pretty(&words)?)?;
     for (ki, info) in d.infos.iter().enumerate() {
         let panels = super::answer::panels(d, ki);
         let k = info.name;
