@@ -94,8 +94,8 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
         }),
         1.6,
     );
-    let (width, height) = (1100u32, 90 + 30 * n as u32);
-    let (names_w, legend_w) = (190u32, 250u32);
+    let (width, height) = (1150u32, 90 + 30 * n as u32);
+    let (names_w, legend_w) = (190u32, 300u32);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
@@ -178,7 +178,7 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
         entries.push((Mark::Dot(RGBColor(60, 60, 60)), "perfect lattice".into()));
         entries.push((
             Mark::Triangle(RGBColor(60, 60, 60)),
-            format!("perturbed: {perturbed}"),
+            format!("perturbed ({perturbed}), worst"),
         ));
         entries.push((Mark::Heading, String::new()));
         entries.push((Mark::Heading, "ok band (empirical)".into()));

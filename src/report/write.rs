@@ -184,7 +184,9 @@ fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
             d.config.maps.alpha,
             super::papers(info).map_or(String::new(), |p| p.label())
         );
-        let svg = charts::rules_svg(&title, &panels, &d.config.perturbed_label())?;
+        let p = &d.config.perturbed;
+        let legend = format!("jitter {} d, {} seeds", p.jitter, p.seeds);
+        let svg = charts::rules_svg(&title, &panels, &legend)?;
         f.figure("answer", &format!("answer_{k}.svg"), svg, &[&csv])?;
     }
     Ok(())
