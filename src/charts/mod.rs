@@ -4,11 +4,13 @@
 //! ([`ticks`]).
 
 pub mod figure4;
+pub mod rules;
 pub mod run;
 pub mod sweep;
 pub mod ticks;
 
 pub use figure4::*;
+pub use rules::*;
 pub use sweep::*;
 
 use plotters::prelude::DrawingAreaErrorKind;

@@ -49,7 +49,7 @@ pub(super) fn series_color(k: usize) -> RGBColor {
 }
 
 /// Range of positive finite values, widened by `pad` (a factor) on a log axis.
-fn log_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+pub(super) fn log_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| *v > 0.0 && v.is_finite())
         .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {

@@ -20,20 +20,34 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::Config;
+use super::plan::{worst, Case, Config, Plan};
 use crate::kernel::KernelInfo;
 use crate::sweep::store::csv_field;
-use crate::sweep::{run_point, Class, Parallel, Point, PointC0, Row};
+use crate::sweep::{run_point, Class, Discretisation, Parallel, Point, PointC0, Row};
 
 /// The result for one kernel at one Re.
 #[derive(Debug, Clone, Serialize)]
 pub struct Empirical {
     pub kernel: String,
+    /// The kernel's index in [`Config::kernel_infos`] and the Re's in
+    /// `empirical.re`: the keys the report joins by.
+    #[serde(skip)]
+    pub kernel_index: usize,
+    #[serde(skip)]
+    pub re_index: usize,
+    /// The discretisation and start; a perturbed case's outcome at a c0 is
+    /// its worst over the seeds.
+    #[serde(skip)]
+    pub case: Case,
+    /// The discretisation, and its label ("triangular, h = d").
+    #[serde(skip)]
+    pub disc: Discretisation,
+    pub discretisation: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
     /// `ok`, or `stable` when no c0 tried ran ok.
-    pub criterion: &'static str,
+    pub criterion: Criterion,
     /// The smallest c0 / U seen to meet the criterion (None: none did).
     pub c0_over_u: Option<f64>,
     /// The largest c0 / U below it seen not to meet it, and how that run
@@ -58,12 +72,40 @@ pub struct Empirical {
     pub runs: Vec<Row>,
 }
 
+/// What the empirical c0 is the smallest value of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Criterion {
+    /// Runs `ok`.
+    Ok,
+    /// Runs neither failed nor over-compressed (none ran ok).
+    Stable,
+}
+
+impl std::fmt::Display for Criterion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Criterion::Ok => "ok",
+            Criterion::Stable => "stable",
+        })
+    }
+}
+
+impl Criterion {
+    fn meets(self, class: Class) -> bool {
+        match self {
+            Criterion::Ok => class == Class::Ok,
+            Criterion::Stable => matches!(class, Class::Ok | Class::Inaccurate),
+        }
+    }
+}
+
 impl Empirical {
     /// Plain words for the table and the verdicts.
     /// Plain words: the answer, its bracket, how far up the ok runs reach,
     /// and any isolated ok values below.
     pub fn describe(&self) -> String {
-        let crit = if self.criterion == "ok" {
+        let crit = if self.criterion == Criterion::Ok {
             "ran ok"
         } else {
             "ran without failing or over-compressing (none ran ok)"
@@ -96,7 +138,7 @@ impl Empirical {
         match &self.above {
             Some((c, class)) => t.push_str(&format!(
                 "; runs {} up to {} U, and at {} U the run was {class}",
-                if self.criterion == "ok" {
+                if self.criterion == Criterion::Ok {
                     "stayed ok"
                 } else {
                     "stayed stable"
@@ -106,7 +148,7 @@ impl Empirical {
             )),
             None => t.push_str(&format!(
                 "; every c0 above it on the map {} too, up to {} U",
-                if self.criterion == "ok" {
+                if self.criterion == Criterion::Ok {
                     "ran ok"
                 } else {
                     "ran stably"
@@ -123,7 +165,7 @@ impl Empirical {
             t.push_str(&format!(
                 "; below the bracket, {} also {} while values between did not (isolated, not counted)",
                 iso.join(", "),
-                if self.criterion == "ok" { "ran ok" } else { "ran stably" }
+                if self.criterion == Criterion::Ok { "ran ok" } else { "ran stably" }
             ));
         }
         t
@@ -134,16 +176,13 @@ fn fmt(v: f64) -> String {
     crate::format::fmt_num(v)
 }
 
-fn meets(criterion: &str, class: Class) -> bool {
-    match criterion {
-        "ok" => class == Class::Ok,
-        _ => matches!(class, Class::Ok | Class::Inaccurate),
-    }
-}
-
 /// One target: a kernel at one Re, with the map's rows there.
 struct Target<'a> {
     info: &'static KernelInfo,
+    case: Case,
+    kernel: usize,
+    /// Index into `empirical.re`.
+    re_index: usize,
     re: f64,
     map: Vec<&'a Row>,
 }
@@ -152,6 +191,7 @@ struct Target<'a> {
 /// targets in parallel. `None` when the stop flag cut it short.
 pub fn find_all(
     config: &Config,
+    plan: &Plan,
     infos: &[&'static KernelInfo],
     rows: &[Row],
     par: Parallel,
@@ -159,21 +199,25 @@ pub fn find_all(
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    for info in infos {
-        for &re in &config.empirical.re {
-            let mut map: Vec<&Row> = rows
-                .iter()
-                .filter(|r| {
-                    r.kernel == info.name
-                        && r.n == config.maps.n
-                        && r.alpha == config.maps.alpha
-                        && r.re == re
-                        && r.c0_spec.ends_with('U')
-                        && r.c0_over_u.is_finite()
-                })
-                .collect();
-            map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
-            targets.push(Target { info, re, map });
+    for case in config.cases() {
+        for (kernel, &info) in infos.iter().enumerate() {
+            if case.disc.of(info).is_none() {
+                continue;
+            }
+            for (re_index, &re) in config.empirical.re.iter().enumerate() {
+                let at = Some(config.map_re_of_verdict(re_index));
+                let mut map = plan.map_rows(rows, kernel, case, at);
+                map.retain(|r| r.c0_over_u.is_finite());
+                map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
+                targets.push(Target {
+                    info,
+                    case,
+                    kernel,
+                    re_index,
+                    re,
+                    map,
+                });
+            }
         }
     }
     // Bisection steps are not known ahead: the bar grows as they start.
@@ -211,10 +255,23 @@ fn find_one(
     let tried_max = t.map.last().map_or(f64::NAN, |r| r.c0_over_u);
     let mut result = Empirical {
         kernel: t.info.name.to_string(),
+        kernel_index: t.kernel,
+        re_index: t.re_index,
+        case: t.case,
+        disc: t
+            .case
+            .disc
+            .of(t.info)
+            .map_or_else(Default::default, |(d, _)| d),
+        discretisation: t
+            .case
+            .disc
+            .of(t.info)
+            .map_or(String::new(), |(_, on)| on.label()),
         n: config.maps.n,
         re: t.re,
         alpha: config.maps.alpha,
-        criterion: "ok",
+        criterion: Criterion::Ok,
         c0_over_u: None,
         below: None,
         below_class: None,
@@ -228,10 +285,10 @@ fn find_one(
         isolated_below: Vec::new(),
         runs: Vec::new(),
     };
-    let criterion = if t.map.iter().any(|r| meets("ok", r.class)) {
-        "ok"
-    } else if t.map.iter().any(|r| meets("stable", r.class)) {
-        "stable"
+    let criterion = if t.map.iter().any(|r| Criterion::Ok.meets(r.class)) {
+        Criterion::Ok
+    } else if t.map.iter().any(|r| Criterion::Stable.meets(r.class)) {
+        Criterion::Stable
     } else {
         return Some(result);
     };
@@ -240,48 +297,53 @@ fn find_one(
     let top = t
         .map
         .iter()
-        .rposition(|r| meets(criterion, r.class))
+        .rposition(|r| criterion.meets(r.class))
         .expect("one meets it");
     result.top = Some(t.map[top].c0_over_u);
     result.above = t.map.get(top + 1).map(|r| (r.c0_over_u, r.class));
     let mut k = top;
-    while k > 0 && meets(criterion, t.map[k - 1].class) {
+    while k > 0 && criterion.meets(t.map[k - 1].class) {
         k -= 1;
     }
     result.isolated_below = t.map[..k]
         .iter()
-        .filter(|r| meets(criterion, r.class))
+        .filter(|r| criterion.meets(r.class))
         .map(|r| r.c0_over_u)
         .collect();
     let mut hi: Row = t.map[k].clone();
     let mut lo: Option<Row> = k.checked_sub(1).map(|j| t.map[j].clone());
 
     let mut counter = 0usize;
-    let mut run = |c0_over_u: f64| -> Option<Row> {
-        started();
-        let point = Point {
-            at: Default::default(),
-            disc: Default::default(),
-            start: Default::default(),
-            index: counter,
-            kernel: t.info.name.to_string(),
-            n: config.maps.n,
-            re: t.re,
-            alpha: config.maps.alpha,
-            c0: PointC0::OverU(c0_over_u),
-        };
-        counter += 1;
-        let row = run_point(&point, &config.scene, &config.classes, stop)?;
-        finished();
-        Some(row)
+    let (disc, _) = t.case.disc.of(t.info).expect("a target's discretisation");
+    // One c0 on every start of the case: the worst row, every row kept.
+    let mut run = |c0_over_u: f64, runs: &mut Vec<Row>| -> Option<Row> {
+        let first = runs.len();
+        for seed in config.seeds(t.case.perturbed) {
+            started();
+            let point = Point {
+                disc,
+                start: config.start(seed),
+                ..Point::paper(
+                    counter,
+                    t.info.name,
+                    config.maps.n,
+                    t.re,
+                    config.maps.alpha,
+                    PointC0::OverU(c0_over_u),
+                )
+            };
+            counter += 1;
+            runs.push(run_point(&point, &config.scene, &config.classes, stop)?);
+            finished();
+        }
+        Some(worst(runs[first..].iter().collect()).clone())
     };
     // Below the map's lowest value, when that one already met it.
     if lo.is_none() {
         for _ in 0..e.max_extend {
-            let row = run(hi.c0_over_u / 3.0)?;
-            result.runs.push(row.clone());
+            let row = run(hi.c0_over_u / 3.0, &mut result.runs)?;
             result.tried_min = result.tried_min.min(row.c0_over_u);
-            if meets(criterion, row.class) {
+            if criterion.meets(row.class) {
                 hi = row;
             } else {
                 lo = Some(row);
@@ -292,9 +354,8 @@ fn find_one(
     if let Some(mut below) = lo {
         while hi.c0_over_u / below.c0_over_u > 1.0 + e.rel_tol {
             let mid = (hi.c0_over_u * below.c0_over_u).sqrt();
-            let row = run(mid)?;
-            result.runs.push(row.clone());
-            if meets(criterion, row.class) {
+            let row = run(mid, &mut result.runs)?;
+            if criterion.meets(row.class) {
                 hi = row;
             } else {
                 below = row;
@@ -325,13 +386,13 @@ pub fn reason(r: &Row) -> String {
 
 pub fn csv(list: &[Empirical]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below\n",
+        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below,lattice,h_over_d,start\n",
     );
     let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for e in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&e.kernel),
             e.n,
             e.re,
@@ -353,7 +414,10 @@ pub fn csv(list: &[Empirical]) -> String {
                     .map(|v| v.to_string())
                     .collect::<Vec<_>>()
                     .join(" ")
-            )
+            ),
+            e.disc.lattice.name(),
+            e.disc.h_over_d,
+            e.case.start_name()
         );
     }
     out

@@ -8,12 +8,13 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{verdict_rules, Config};
+use super::plan::{Case, Config, Plan};
+use crate::config::C0Rule;
 use crate::kernel::{Derived, KernelInfo};
-use crate::problem::c0::table as c0_table;
+use crate::problem::c0::{all_rules_on, table as c0_table};
 use crate::problem::cost::DtLimit;
 use crate::sweep::store::csv_field;
-use crate::sweep::{Class, Point, PointC0, Row};
+use crate::sweep::{Class, Discretisation, Point, PointC0, Row};
 
 /// Decimal places of a printed number (`"0.029873"` has 6).
 fn decimals(printed: &str) -> u32 {
@@ -205,18 +206,26 @@ pub fn table2_csv(t: &[Table2Row]) -> String {
 
 /// One rule for one kernel at one scene: c0, the time step it implies, the
 /// cost estimate, and the measured run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct C0Compare {
     pub kernel: String,
+    /// The keys: the kernel's index in [`Config::kernel_infos`], the Re's in
+    /// `empirical.re`, and the rule (a derived one with its model named).
+    pub kernel_index: usize,
+    pub re_index: usize,
+    pub rule: C0Rule,
+    /// The discretisation and start of the run; perturbed: the worst of
+    /// its seeds' runs.
+    pub case: Case,
+    pub disc: Discretisation,
+    pub discretisation: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
-    /// `derived:MODEL`, `rule10`, `table2`.
-    pub rule: String,
     pub default_model: bool,
     pub c0_over_u: f64,
     pub dt: f64,
-    pub dt_limit: String,
+    pub dt_limit: Option<DtLimit>,
     /// Steps to t_end at that dt, and particles x steps.
     pub steps_est: f64,
     pub particle_steps_est: f64,
@@ -231,93 +240,105 @@ pub struct C0Compare {
     pub run_dt_limit_dominant: Option<DtLimit>,
 }
 
-/// Every rule at every verdict Re for every kernel.
+/// Every rule at every verdict Re for every kernel, in each case.
 pub fn c0_compare(
     config: &Config,
+    plan: &Plan,
     infos: &[&'static KernelInfo],
     rows: &[Row],
 ) -> Result<Vec<C0Compare>> {
     let mut out = Vec::new();
-    for info in infos {
-        for &re in &config.empirical.re {
-            let point = Point {
-                at: Default::default(),
-                disc: Default::default(),
-                start: Default::default(),
-                index: 0,
-                kernel: info.name.to_string(),
-                n: config.maps.n,
-                re,
-                alpha: config.maps.alpha,
-                c0: PointC0::Spec("rule10".parse().expect("a rule")),
-            };
-            let scene = point.scene(&config.scene)?;
-            let table = c0_table(&scene)?;
-            let particles = crate::problem::lattice::Lattice::new(
-                scene.lattice,
-                scene.n_layers,
-                scene.d,
-                scene.h_over_d * scene.d,
-                info.support,
-            )
-            .n_particles() as f64;
-            let rule_ids: Vec<String> = verdict_rules(info).iter().map(|r| r.to_string()).collect();
-            for t in &table.rows {
-                let run = rows.iter().find(|r| {
-                    r.kernel == info.name
-                        && r.n == config.maps.n
-                        && r.re == re
-                        && r.alpha == config.maps.alpha
-                        && rule_ids.contains(&r.c0_spec)
-                        && r.c0_rule == t.rule
-                });
-                let ran = run.filter(|r| r.steps > 0);
-                out.push(C0Compare {
-                    kernel: info.name.to_string(),
-                    n: config.maps.n,
-                    re,
-                    alpha: config.maps.alpha,
-                    rule: t.rule.clone(),
-                    default_model: t.rule == format!("derived:{}", info.c0_default),
-                    c0_over_u: t.c0_over_u,
-                    dt: t.cost.as_ref().map_or(f64::NAN, |c| c.dt),
-                    dt_limit: t
-                        .cost
-                        .as_ref()
-                        .map_or(String::new(), |c| c.dt_limit.name().to_string()),
-                    steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps),
-                    particle_steps_est: t.cost.as_ref().map_or(f64::NAN, |c| c.steps * particles),
-                    class: run.map(|r| r.class),
-                    reason: run.map(super::empirical::reason),
-                    linf_max: ran.map_or(f64::NAN, |r| r.linf_max),
-                    max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
-                    wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
-                    steps: ran.map_or(0, |r| r.steps),
-                    run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
-                });
+    for case in config.cases() {
+        for (ki, &info) in infos.iter().enumerate() {
+            for ri in 0..config.empirical.re.len() {
+                out.extend(compare_at(config, plan, rows, (ki, info), case, ri)?);
             }
         }
     }
     Ok(out)
 }
 
+/// Every rule of kernel `ki` at `empirical.re[ri]` in case `case` (none
+/// when the kernel has no discretisation for it).
+fn compare_at(
+    config: &Config,
+    plan: &Plan,
+    rows: &[Row],
+    (ki, info): (usize, &'static KernelInfo),
+    case: Case,
+    ri: usize,
+) -> Result<Vec<C0Compare>> {
+    let Some((disc, on)) = case.disc.of(info) else {
+        return Ok(Vec::new());
+    };
+    let (m, re) = (&config.maps, config.empirical.re[ri]);
+    let c0 = PointC0::Spec("rule10".parse().expect("a rule"));
+    let point = Point {
+        disc,
+        ..Point::paper(0, info.name, m.n, re, m.alpha, c0)
+    };
+    let scene = point.scene(&config.scene)?;
+    let table = c0_table(&scene)?;
+    let particles = crate::problem::lattice::Lattice::new(
+        scene.lattice,
+        scene.n_layers,
+        scene.d,
+        scene.h_over_d * scene.d,
+        info.support,
+    )
+    .n_particles() as f64;
+    // The table's rows are its discretisation's rules, in order.
+    let mut out = Vec::new();
+    for (rule, t) in all_rules_on(info, on).into_iter().zip(&table.rows) {
+        let run = plan.rule_row(rows, ki, case, ri, &rule);
+        let ran = run.filter(|r| r.steps > 0);
+        let cost = t.cost.as_ref();
+        out.push(C0Compare {
+            kernel: info.name.to_string(),
+            kernel_index: ki,
+            re_index: ri,
+            case,
+            disc,
+            discretisation: on.label(),
+            n: m.n,
+            re,
+            alpha: m.alpha,
+            default_model: rule == C0Rule::Derived(Some(info.c0_default.to_string())),
+            rule,
+            c0_over_u: t.c0_over_u,
+            dt: cost.map_or(f64::NAN, |c| c.dt),
+            dt_limit: cost.map(|c| c.dt_limit),
+            steps_est: cost.map_or(f64::NAN, |c| c.steps),
+            particle_steps_est: cost.map_or(f64::NAN, |c| c.steps * particles),
+            class: run.map(|r| r.class),
+            reason: run.map(super::empirical::reason),
+            linf_max: ran.map_or(f64::NAN, |r| r.linf_max),
+            max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
+            wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
+            steps: ran.map_or(0, |r| r.steps),
+            run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
+        });
+    }
+    Ok(out)
+}
+
 pub fn c0_compare_csv(list: &[C0Compare]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant\n",
+        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant,lattice,h_over_d,start\n",
     );
     for c in list {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&c.kernel),
             c.n,
             c.re,
             c.alpha,
-            csv_field(&c.rule),
+            csv_field(&c.rule.to_string()),
             c.default_model,
             c.c0_over_u,
             c.dt,
-            c.dt_limit,
+            c.dt_limit.map_or("", DtLimit::name),
             c.steps_est,
             c.particle_steps_est,
             c.class.map_or(String::new(), |k| k.to_string()),
@@ -326,7 +347,10 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.max_eps,
             c.wall_s,
             c.steps,
-            c.run_dt_limit_dominant.map_or("", DtLimit::name)
+            c.run_dt_limit_dominant.map_or("", DtLimit::name),
+            c.disc.lattice.name(),
+            c.disc.h_over_d,
+            c.case.start_name()
         );
     }
     out

@@ -1,0 +1,89 @@
+//! The page's first screen: per kernel, the picture of c0 by every rule
+//! against the empirical bands and the words that read it; then the
+//! verdicts of the other cases (perturbed, square lattice).
+
+use std::fmt::Write as _;
+
+use super::{esc, num, Figure};
+use crate::report::verdict::VerdictAtRe;
+use crate::report::{answer, ReportData};
+
+/// The answer first: per kernel its picture and, per Re, which rules were
+/// sufficient, which necessary and what each cost.
+pub(super) fn answer(h: &mut String, d: &ReportData, figures: &[Figure]) {
+    let c = &d.config;
+    h.push_str("<h2 id=\"answer\">The answer: c0 by every rule against the solver</h2>\n");
+    let _ = writeln!(
+        h,
+        "<p>Per kernel, on the paper's discretisation at N = {}, alpha = {}: each rule's c0 (rows) at each verdict Re (panels), a dot coloured by the class of its run on the perfect lattice and a triangle by the worst class over the perturbed starts ({}); shaded, the empirical ok band (the smallest c0 that ran ok, bisected, up to the largest ok c0 of the map) on the perfect lattice (light) and on every perturbed seed (dark). Every mark is one of this report's runs.</p>",
+        c.maps.n,
+        c.maps.alpha,
+        esc(&c.perturbed_label())
+    );
+    for (ki, info) in d.infos.iter().enumerate() {
+        let _ = writeln!(h, "<h3>{}</h3>", esc(info.title));
+        let file = format!("answer_{}.svg", info.name);
+        let one: Vec<&Figure> = figures.iter().filter(|f| f.svg_file == file).collect();
+        for f in one {
+            let _ = writeln!(
+                h,
+                "<figure id=\"fig-answer_{0}\"><div class=\"svg\">{1}</div><figcaption>File: <a href=\"{2}\">{2}</a>; data: <a href=\"answer_{0}.csv\">answer_{0}.csv</a></figcaption></figure>",
+                esc(info.name),
+                f.svg,
+                esc(&f.svg_file)
+            );
+        }
+        for a in answer::answers(d, ki) {
+            let _ = writeln!(h, "<p><b>Re = {}</b>:</p><ul>", num(a.re));
+            for s in &a.sentences {
+                let _ = writeln!(h, "<li>{}</li>", esc(s));
+            }
+            h.push_str("</ul>\n");
+        }
+    }
+}
+
+/// One case's paragraphs per Re (the last sentence, the conclusion, bold).
+pub(super) fn at_re_html(h: &mut String, at_re: &[VerdictAtRe]) {
+    for a in at_re {
+        let _ = writeln!(
+            h,
+            "<p><b>Re = {}</b> (N = {}, alpha = {}):</p><ul>",
+            num(a.re),
+            a.n,
+            a.alpha
+        );
+        let last = a.sentences.len().saturating_sub(1);
+        for (k, sentence) in a.sentences.iter().enumerate() {
+            if k == last {
+                let _ = writeln!(h, "<li><b>{}</b></li>", esc(sentence));
+            } else {
+                let _ = writeln!(h, "<li>{}</li>", esc(sentence));
+            }
+        }
+        h.push_str("</ul>\n");
+    }
+}
+
+/// The verdicts of the other cases, each folded under its summary.
+pub(super) fn cases(h: &mut String, d: &ReportData, kernel: &str) {
+    let Some(v) = d.verdicts.iter().find(|v| v.kernel == kernel) else {
+        return;
+    };
+    for c in &v.cases {
+        let _ = writeln!(
+            h,
+            "<details><summary><b>{}, {} start{}:</b> {}</summary>",
+            esc(&c.discretisation),
+            c.start,
+            if c.start == "perturbed" {
+                format!(" ({})", esc(&d.config.perturbed_label()))
+            } else {
+                String::new()
+            },
+            esc(&c.summary)
+        );
+        at_re_html(h, &c.at_re);
+        h.push_str("</details>\n");
+    }
+}

@@ -1,0 +1,580 @@
+//! The report's config (the embedded `report.toml`, `quick.toml`, or a file)
+//! and its plan: every scene it runs, each once, with the places in the
+//! report it serves as typed keys (grid indices as integers, the rule as a
+//! [`C0Rule`]). The report joins rows to its tables and figures by these
+//! keys and the rows' grid index, never by comparing strings or floats.
+
+use std::collections::BTreeMap;
+
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+
+use crate::config::{C0Rule, C0Spec};
+use crate::kernel::{DiscretisationInfo, KernelInfo};
+use crate::kernels;
+use crate::problem::c0::all_rules_on;
+use crate::sweep::{
+    worst_over_seeds, ClassRules, Discretisation, HOverD, Point, PointC0, Row, Start,
+};
+
+/// The default report's config.
+pub const DEFAULT_CONFIG: &str = include_str!("report.toml");
+/// The `--quick` report's config.
+pub const QUICK_CONFIG: &str = include_str!("quick.toml");
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// Kernel names; empty means every kernel.
+    #[serde(default)]
+    pub kernels: Vec<String>,
+    #[serde(default)]
+    pub classes: ClassRules,
+    /// Scene fields over the built-in scene, for every run.
+    #[serde(default)]
+    pub scene: toml::Table,
+    pub speed: SpeedConfig,
+    pub maps: MapsConfig,
+    pub empirical: EmpiricalConfig,
+    pub perturbed: PerturbedConfig,
+    pub square: SquareConfig,
+    pub figure4: Figure4Config,
+}
+
+/// Perturbed starts: every map point (at `re`), every rule at the verdicts'
+/// Re and the empirical c0 also run from `seeds` starts jittered by
+/// `jitter` d; a point's perturbed outcome is its worst over the seeds.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PerturbedConfig {
+    pub jitter: f64,
+    pub seeds: u32,
+    /// The maps' Re run perturbed too (each one of maps.re, every
+    /// empirical.re among them).
+    pub re: Vec<f64>,
+}
+
+/// The square lattice: the stability map (at `re`), the verdict rules and
+/// the empirical c0 on one square discretisation per kernel
+/// ([`super::square_discretisation`]), perfect and perturbed; none when
+/// `re` is empty.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SquareConfig {
+    /// Each one of maps.re, every empirical.re among them.
+    pub re: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedConfig {
+    pub n: Vec<u32>,
+    pub re: Vec<f64>,
+    pub alpha: f64,
+    pub c0: Vec<String>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapsConfig {
+    pub n: u32,
+    pub alpha: f64,
+    pub re: Vec<f64>,
+    pub c0_over_u: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmpiricalConfig {
+    pub re: Vec<f64>,
+    pub rel_tol: f64,
+    pub max_extend: u32,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Figure4Config {
+    pub n: u32,
+    pub samples: usize,
+}
+
+impl Config {
+    pub fn parse(text: &str, origin: &str) -> Result<Config> {
+        let c: Config = toml::from_str(text)
+            .map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))?;
+        c.check().with_context(|| origin.to_string())?;
+        Ok(c)
+    }
+
+    pub fn default_full() -> Config {
+        Config::parse(DEFAULT_CONFIG, "src/report/report.toml")
+            .expect("the embedded report config is valid")
+    }
+
+    pub fn quick() -> Config {
+        Config::parse(QUICK_CONFIG, "src/report/quick.toml")
+            .expect("the embedded quick config is valid")
+    }
+
+    fn check(&self) -> Result<()> {
+        for k in &self.kernels {
+            crate::config::kernel_info(k)?;
+        }
+        for re in &self.empirical.re {
+            if !self.maps.re.contains(re) {
+                bail!("empirical.re = {re} is not one of maps.re: the bisection starts from the map's row at that Re");
+            }
+        }
+        for (field, list) in [
+            ("perturbed.re", &self.perturbed.re),
+            ("square.re", &self.square.re),
+        ] {
+            if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
+                bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
+            }
+            if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
+                bail!("{field} lacks empirical.re = {re}: the bisection starts from the map's row at that Re");
+            }
+        }
+        let j = self.perturbed.jitter;
+        if !(j > 0.0 && j < 0.5) || self.perturbed.seeds == 0 {
+            bail!("perturbed.jitter must be in (0, 0.5) d and perturbed.seeds at least 1 (got {j} and {})", self.perturbed.seeds);
+        }
+        if self.maps.c0_over_u.is_empty() || self.maps.re.is_empty() {
+            bail!("maps.re and maps.c0_over_u need at least one value each");
+        }
+        if self.empirical.rel_tol.is_nan() || self.empirical.rel_tol <= 0.0 {
+            bail!("empirical.rel_tol must be positive");
+        }
+        if self.figure4.samples < 2 {
+            bail!("figure4.samples must be at least 2");
+        }
+        Ok(())
+    }
+
+    pub fn kernel_infos(&self) -> Vec<&'static KernelInfo> {
+        if self.kernels.is_empty() {
+            kernels::KERNELS.to_vec()
+        } else {
+            self.kernels
+                .iter()
+                .filter_map(|k| kernels::kernel_info(k))
+                .collect()
+        }
+    }
+
+    /// The index into `maps.re` of `empirical.re[re]` (checked to be one of
+    /// them when the config was read).
+    pub fn map_re_of_verdict(&self, re: usize) -> usize {
+        self.maps
+            .re
+            .iter()
+            .position(|m| *m == self.empirical.re[re])
+            .expect("checked by Config::check")
+    }
+
+    /// The seeds of a case's starts: 0 (the perfect lattice) or 1..=seeds.
+    pub fn seeds(&self, perturbed: bool) -> std::ops::RangeInclusive<u32> {
+        if perturbed {
+            1..=self.perturbed.seeds
+        } else {
+            0..=0
+        }
+    }
+
+    /// The start of seed `seed` (0: perfect).
+    pub fn start(&self, seed: u32) -> Start {
+        match seed {
+            0 => Start::Perfect,
+            seed => Start::Jittered {
+                amplitude: self.perturbed.jitter,
+                seed,
+            },
+        }
+    }
+
+    /// The cases the report runs: the paper's discretisation perfect and
+    /// perturbed, then the square one's (unless `square.re` is empty).
+    pub fn cases(&self) -> Vec<Case> {
+        let n = if self.square.re.is_empty() { 2 } else { 4 };
+        Case::ALL[..n].to_vec()
+    }
+
+    /// The perturbation in words: "jittered by 0.05 d, worst of 3 seeds".
+    pub fn perturbed_label(&self) -> String {
+        format!(
+            "jittered by {} d, worst of {} seeds",
+            self.perturbed.jitter, self.perturbed.seeds
+        )
+    }
+
+    /// The maps' Re (indices into maps.re) a case runs.
+    fn map_res(&self, case: Case) -> Vec<usize> {
+        let keep = |re: &f64| {
+            (!case.perturbed || self.perturbed.re.contains(re))
+                && (case.disc == Disc::Paper || self.square.re.contains(re))
+        };
+        (0..self.maps.re.len())
+            .filter(|&i| keep(&self.maps.re[i]))
+            .collect()
+    }
+
+    /// Every scene of the report but the bisection's, each once, with its
+    /// keys: the speed grid (the paper's discretisation, perfect start), and
+    /// for each case the rules at the verdicts' Re and the maps.
+    pub fn plan(&self) -> Plan {
+        let infos = self.kernel_infos();
+        let mut plan = Plan::default();
+        let mut seen: BTreeMap<String, usize> = BTreeMap::new();
+        let mut push = |kernel: usize, p: Point, role: Role| {
+            let p = Point {
+                index: plan.points.len(),
+                ..p
+            };
+            let key = Key { kernel, role };
+            match seen.get(&p.id()) {
+                Some(&i) => plan.keys[i].push(key),
+                None => {
+                    seen.insert(p.id(), plan.points.len());
+                    plan.points.push(p);
+                    plan.keys.push(vec![key]);
+                }
+            }
+        };
+        let (m, e) = (&self.maps, &self.empirical);
+        for (k, &info) in infos.iter().enumerate() {
+            let name = info.name;
+            for (ni, &n) in self.speed.n.iter().enumerate() {
+                for (ri, &re) in self.speed.re.iter().enumerate() {
+                    for (ci, c) in self.speed.c0.iter().enumerate() {
+                        if let Ok(spec) = c.parse::<C0Spec>() {
+                            let role = Role::Speed {
+                                n: ni,
+                                re: ri,
+                                c0: ci,
+                            };
+                            let c0 = PointC0::Spec(spec);
+                            push(k, Point::paper(0, name, n, re, self.speed.alpha, c0), role);
+                        }
+                    }
+                }
+            }
+            for case in self.cases() {
+                let Some((disc, on)) = case.disc.of(info) else {
+                    continue;
+                };
+                for seed in self.seeds(case.perturbed) {
+                    let at = |re: f64, c0: PointC0| Point {
+                        disc,
+                        start: self.start(seed),
+                        ..Point::paper(0, name, m.n, re, m.alpha, c0)
+                    };
+                    for (ri, &re) in e.re.iter().enumerate() {
+                        for rule in case.disc.rules(info, on) {
+                            let spec = PointC0::Spec(scene_spec(info, &rule));
+                            let role = Role::Rule {
+                                disc: case.disc,
+                                seed,
+                                re: ri,
+                                rule,
+                            };
+                            push(k, at(re, spec), role);
+                        }
+                    }
+                    for ri in self.map_res(case) {
+                        for (ci, &x) in m.c0_over_u.iter().enumerate() {
+                            let role = Role::Map {
+                                disc: case.disc,
+                                seed,
+                                re: ri,
+                                c0: ci,
+                            };
+                            push(k, at(m.re[ri], PointC0::OverU(x)), role);
+                        }
+                    }
+                }
+            }
+        }
+        plan
+    }
+
+    /// The points of [`Config::plan`].
+    pub fn points(&self) -> Vec<Point> {
+        self.plan().points
+    }
+}
+
+/// Which discretisation a case runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Disc {
+    /// The paper's: triangular, h = d.
+    Paper,
+    /// The kernel's [`super::square_discretisation`].
+    Square,
+}
+
+impl Disc {
+    /// The kernel's discretisation of this kind, as a point takes it and as
+    /// generated; `None` when none is generated.
+    pub fn of(
+        self,
+        info: &'static KernelInfo,
+    ) -> Option<(Discretisation, &'static DiscretisationInfo)> {
+        let on = match self {
+            Disc::Paper => super::papers(info)?,
+            Disc::Square => super::square_discretisation(info)?,
+        };
+        let h_over_d = HOverD::parse_exact(on.h_over_d_exact)?;
+        Some((
+            Discretisation {
+                lattice: on.lattice,
+                h_over_d,
+            },
+            on,
+        ))
+    }
+
+    /// The rules run at the verdicts' Re: on the paper's discretisation
+    /// every rule (the first screen's picture), on the square one the
+    /// derived models and 10 U (the peers' rules cost the same there, and
+    /// 100 U ten times 10 U's steps: past the report's few minutes).
+    fn rules(self, info: &KernelInfo, on: &DiscretisationInfo) -> Vec<C0Rule> {
+        let all = all_rules_on(info, on);
+        match self {
+            Disc::Paper => all,
+            Disc::Square => all.into_iter().filter(is_verdict_rule).collect(),
+        }
+    }
+}
+
+/// A case of the report: a discretisation and a start (perfect, or
+/// perturbed: the worst over the seeds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Case {
+    pub disc: Disc,
+    pub perturbed: bool,
+}
+
+impl Case {
+    pub const ALL: [Case; 4] = [
+        Case {
+            disc: Disc::Paper,
+            perturbed: false,
+        },
+        Case {
+            disc: Disc::Paper,
+            perturbed: true,
+        },
+        Case {
+            disc: Disc::Square,
+            perturbed: false,
+        },
+        Case {
+            disc: Disc::Square,
+            perturbed: true,
+        },
+    ];
+    pub const PAPER: Case = Case::ALL[0];
+
+    /// The suffix of its files: "", "_perturbed", "_square",
+    /// "_square_perturbed".
+    pub fn file_suffix(self) -> &'static str {
+        match (self.disc, self.perturbed) {
+            (Disc::Paper, false) => "",
+            (Disc::Paper, true) => "_perturbed",
+            (Disc::Square, false) => "_square",
+            (Disc::Square, true) => "_square_perturbed",
+        }
+    }
+
+    /// The page's figure id of its stability maps.
+    pub fn figure_id(self) -> &'static str {
+        match (self.disc, self.perturbed) {
+            (Disc::Paper, false) => "stability",
+            (Disc::Paper, true) => "stability_perturbed",
+            (Disc::Square, false) => "stability_square",
+            (Disc::Square, true) => "stability_square_perturbed",
+        }
+    }
+
+    /// "perfect" or "perturbed".
+    pub fn start_name(self) -> &'static str {
+        if self.perturbed {
+            "perturbed"
+        } else {
+            "perfect"
+        }
+    }
+}
+
+/// The verdict rules of the square discretisation: every derived model,
+/// `rule10` (and `table2`, the paper's discretisation only).
+fn is_verdict_rule(rule: &C0Rule) -> bool {
+    matches!(rule, C0Rule::Derived(_) | C0Rule::Rule10 | C0Rule::Table2)
+}
+
+/// A verdict rule in scene syntax: the default model as `derived`.
+fn scene_spec(info: &KernelInfo, rule: &C0Rule) -> C0Spec {
+    let rule = match rule {
+        C0Rule::Derived(Some(m)) if m == info.c0_default => C0Rule::Derived(None),
+        r => r.clone(),
+    };
+    C0Spec::Rule { factor: 1.0, rule }
+}
+
+/// Which part of the report a scene serves, by indices into the config's
+/// lists.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Role {
+    /// The speed grid: `speed.n[n]`, `speed.re[re]`, `speed.c0[c0]`.
+    Speed { n: usize, re: usize, c0: usize },
+    /// A rule at `empirical.re[re]` (N = maps.n, alpha = maps.alpha), its
+    /// derived model named (the default one too), on `disc` from start
+    /// `seed` (0: the perfect lattice).
+    Rule {
+        disc: Disc,
+        seed: u32,
+        re: usize,
+        rule: C0Rule,
+    },
+    /// The stability map: `maps.re[re]`, `maps.c0_over_u[c0]`.
+    Map {
+        disc: Disc,
+        seed: u32,
+        re: usize,
+        c0: usize,
+    },
+}
+
+/// A scene's place in the report: the kernel (an index into
+/// [`Config::kernel_infos`]) and its role.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Key {
+    pub kernel: usize,
+    pub role: Role,
+}
+
+/// The report's scenes and, for each (by its grid index), every place it
+/// serves.
+#[derive(Debug, Default)]
+pub struct Plan {
+    pub points: Vec<Point>,
+    pub keys: Vec<Vec<Key>>,
+}
+
+impl Plan {
+    /// The rows (in their order) with a key `want` takes.
+    pub fn rows<'a>(&self, rows: &'a [Row], want: impl Fn(&Key) -> bool) -> Vec<&'a Row> {
+        rows.iter()
+            .filter(|r| {
+                self.keys
+                    .get(r.index)
+                    .is_some_and(|ks| ks.iter().any(&want))
+            })
+            .collect()
+    }
+
+    /// Kernel `kernel`'s stability-map rows of case `case` at `maps.re[re]`,
+    /// or at every Re, over its seeds: one row per map point, the worst of
+    /// its seeds' (the perfect start's own row), in grid order.
+    pub fn map_rows<'a>(
+        &self,
+        rows: &'a [Row],
+        kernel: usize,
+        case: Case,
+        re: Option<usize>,
+    ) -> Vec<&'a Row> {
+        let mut groups: BTreeMap<(usize, usize), Vec<&'a Row>> = BTreeMap::new();
+        for r in rows {
+            for key in self.keys.get(r.index).into_iter().flatten() {
+                if let Role::Map {
+                    disc,
+                    seed,
+                    re: ri,
+                    c0,
+                } = key.role
+                {
+                    let wanted = key.kernel == kernel
+                        && disc == case.disc
+                        && (seed > 0) == case.perturbed
+                        && re.is_none_or(|x| x == ri);
+                    if wanted {
+                        groups.entry((ri, c0)).or_default().push(r);
+                    }
+                }
+            }
+        }
+        let mut out: Vec<&'a Row> = groups.into_values().map(worst).collect();
+        out.sort_by_key(|r| r.index);
+        out
+    }
+
+    /// The row (the worst over the seeds) of kernel `kernel`'s rule `rule`
+    /// at `empirical.re[re]` in case `case`.
+    pub fn rule_row<'a>(
+        &self,
+        rows: &'a [Row],
+        kernel: usize,
+        case: Case,
+        re: usize,
+        rule: &C0Rule,
+    ) -> Option<&'a Row> {
+        let seeds = self.rows(rows, |k| {
+            k.kernel == kernel
+                && matches!(&k.role, Role::Rule { disc, seed, re: r, rule: x }
+                    if *disc == case.disc && (*seed > 0) == case.perturbed && *r == re && x == rule)
+        });
+        (!seeds.is_empty()).then(|| worst(seeds))
+    }
+}
+
+/// The worst of one point's rows over its seeds (failed > over-compressed >
+/// inaccurate > ok, then the larger error: [`worst_over_seeds`]).
+pub fn worst(seeds: Vec<&Row>) -> &Row {
+    let owned: Vec<Row> = seeds.iter().map(|r| (*r).clone()).collect();
+    let folded = worst_over_seeds(&owned);
+    let w = folded
+        .first()
+        .map(|g| g.worst.index)
+        .expect("at least one row");
+    seeds
+        .into_iter()
+        .find(|r| r.index == w)
+        .expect("the worst is one of them")
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use super::*;
+
+    #[test]
+    fn embedded_configs_parse_and_cover_the_verdicts() {
+        for c in [Config::default_full(), Config::quick()] {
+            let plan = c.plan();
+            let ids: BTreeSet<String> = plan.points.iter().map(Point::id).collect();
+            assert_eq!(ids.len(), plan.points.len());
+            assert_eq!(plan.keys.len(), plan.points.len());
+            for (k, info) in c.kernel_infos().iter().enumerate() {
+                for (ri, &re) in c.empirical.re.iter().enumerate() {
+                    let id = format!(
+                        "{}/n={}/re={re}/alpha={}/c0=rule10",
+                        info.name, c.maps.n, c.maps.alpha
+                    );
+                    let i = plan.points.iter().position(|p| p.id() == id).expect(&id);
+                    let want = Key {
+                        kernel: k,
+                        role: Role::Rule {
+                            disc: Disc::Paper,
+                            seed: 0,
+                            re: ri,
+                            rule: C0Rule::Rule10,
+                        },
+                    };
+                    assert!(plan.keys[i].contains(&want), "{id}");
+                }
+            }
+        }
+    }
+}
