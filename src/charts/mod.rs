@@ -3,6 +3,7 @@
 //! stability maps, Figure 4).
 
 pub mod figure4;
+pub mod law;
 pub mod run;
 pub mod sweep;
 

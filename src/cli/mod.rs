@@ -6,6 +6,7 @@ pub mod bench;
 pub mod c0;
 pub mod interrupt;
 pub mod kernels;
+pub mod law;
 pub mod report;
 pub mod run;
 pub mod sweep;
