@@ -86,7 +86,7 @@ pub struct Trial {
     /// Steps of the perfect run to t_end: taken, or extrapolated from the
     /// time it stopped at (steps x t_end / t).
     pub steps_to_end: f64,
-    /// Wall-clock seconds of all the runs (the sum of each run's).
+    /// Wall-clock seconds of all the runs, summed (they overlap).
     pub wall_s: f64,
 }
 
@@ -464,4 +464,41 @@ fn rule_answer(name: String, c0: f64, u: f64, t: Option<&Trial>, base: Option<f6
             _ => f64::NAN,
         },
     }
+}
+
+/// The scene with its c0 resolved when it is `[F*]empirical`: the
+/// bisection first (its runs tick `bar`), then c0 = F x the recommended
+/// c0 (the smallest ok on every start times `search.margin`); any other c0
+/// is left as it is (None: nothing ran).
+pub fn resolve_empirical(
+    scene: &Scene,
+    search: &Search,
+    bar: &ProgressBar,
+) -> Result<Option<(Scene, Bisection)>> {
+    let C0Spec::Rule {
+        factor,
+        rule: crate::config::C0Rule::Empirical,
+    } = scene.c0
+    else {
+        return Ok(None);
+    };
+    // everything but c0 valid before the first run
+    crate::problem::c0::table(scene)?;
+    bar.set_length((u64::from(search.seeds) + 1) * bisection_trials(search));
+    let b = bisect(scene, search, bar, &mut HashMap::new())?;
+    let Some(min) = b.c0_min_ok else {
+        bail!(
+            "c0 = {}: no c0 from {} U to {} U is ok on the perfect lattice and on every one of {} \
+             starts jittered by {} d, so there is no empirical c0 for this scene; give a number or \
+             another rule (`shearsph c0 --empirical` shows every trial)",
+            scene.c0,
+            search.lo_over_u,
+            search.hi_over_u,
+            search.seeds,
+            search.amplitude
+        );
+    };
+    let mut s = scene.clone();
+    s.c0 = C0Spec::Value(factor * min * search.margin);
+    Ok(Some((s, b)))
 }

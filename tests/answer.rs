@@ -85,3 +85,56 @@ fn the_empirical_answer_has_its_schema() {
         }
     }
 }
+
+#[test]
+fn empirical_as_a_c0_rule_runs_the_bisection_first() {
+    // `run --c0 empirical`: the bisection for the scene, said on stdout,
+    // then the run itself at that c0 (its summary's c0 is the number said).
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args([
+            "run",
+            "--quiet",
+            "--no-particles",
+            "--n",
+            "6",
+            "--re",
+            "10",
+            "--t-end",
+            "3",
+        ])
+        .args(["--c0", "empirical", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("c0 = empirical = "),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let said: f64 = stdout["c0 = empirical = ".len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let c0 = summary["c0"]
+        .as_f64()
+        .unwrap_or_else(|| summary["problem"]["c0"].as_f64().unwrap());
+    assert!((c0 - said).abs() <= 1e-6 * said, "{c0} vs {said}");
+    // and the same search the c0 command's answer makes: its recommendation
+    let ans = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args([
+            "c0", "--json", "--quiet", "--n", "6", "--re", "10", "--t-end", "3",
+        ])
+        .args(["--c0", "empirical"])
+        .output()
+        .unwrap();
+    let v: Value = serde_json::from_slice(&ans.stdout).unwrap();
+    let rec = v["recommended"].as_f64().unwrap();
+    assert!((rec - said).abs() <= 1e-6 * said, "{rec} vs {said}");
+}

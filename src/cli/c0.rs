@@ -12,7 +12,8 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::SceneArgs;
-use crate::answer::{answer, Search};
+use crate::answer::{answer, resolve_empirical, Search};
+use crate::config::{C0Spec, Scene};
 use crate::problem::c0::table;
 use crate::solver::Class;
 
@@ -54,7 +55,15 @@ pub struct C0Args {
 }
 
 pub fn main(args: C0Args) -> Result<ExitCode> {
-    if args.empirical {
+    // `--c0 empirical` (or a scene's) asks for the solver's answer
+    let asks_empirical = matches!(
+        args.scene.load()?.c0,
+        crate::config::C0Spec::Rule {
+            rule: crate::config::C0Rule::Empirical,
+            ..
+        }
+    );
+    if args.empirical || asks_empirical {
         return empirical(&args);
     }
     let t = table(&args.scene.load()?)?;
@@ -108,6 +117,58 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// A progress bar of runs on stderr (hidden when quiet or not a terminal).
+fn runs_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(1);
+        bar.set_style(
+            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {pos}/{len} runs {msg}")
+                .expect("valid template"),
+        );
+        bar
+    }
+}
+
+/// For `run`: a scene whose c0 is `[F*]empirical` gets the `c0
+/// --empirical` recommendation for itself (the bisection with the default
+/// search: 3 seeds jittered by 0.05 d, margin 1.5), found first and said
+/// (on stdout, or stderr when stdout carries JSON); any other scene is
+/// returned as it is.
+pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Scene> {
+    let search = Search::default();
+    let bar = runs_bar(quiet);
+    bar.set_message("c0 = empirical: the bisection first");
+    let Some((s, b)) = resolve_empirical(&scene, &search, &bar)? else {
+        return Ok(scene);
+    };
+    bar.finish_and_clear();
+    let C0Spec::Value(c0) = s.c0 else {
+        unreachable!("resolve_empirical gives a number")
+    };
+    let line = format!(
+        "c0 = {} = {c0:.6} ({:.4} U): the smallest c0 ok on the perfect lattice and on {} seeds \
+         jittered by {} d is {:.6} ({} trials{}), times the margin {}; now the run itself",
+        scene.c0,
+        c0 / s.u,
+        search.seeds,
+        search.amplitude,
+        b.c0_min_ok.unwrap_or(f64::NAN),
+        b.trials.len(),
+        b.c0_max_not_ok
+            .map(|c| format!(", not ok at {c:.6}"))
+            .unwrap_or_default(),
+        search.margin
+    );
+    if to_stdout {
+        println!("{line}");
+    } else {
+        eprintln!("{line}");
+    }
+    Ok(s)
+}
+
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Everything but c0 must be valid before the first run.
@@ -120,16 +181,7 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
         full: args.full,
         ..Search::default()
     };
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let bar = ProgressBar::new(1);
-        bar.set_style(
-            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {pos}/{len} runs")
-                .expect("valid template"),
-        );
-        bar
-    };
+    let bar = runs_bar(args.quiet);
     let a = answer(&scene, &search, &bar)?;
     bar.finish_and_clear();
     let stopped_note = !search.full

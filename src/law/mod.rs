@@ -143,7 +143,9 @@ pub struct Point {
     /// Every rule's c0 / U at this point (NaN: none).
     pub rules: Vec<(String, f64)>,
     pub trials: usize,
-    /// CPU seconds of the point's runs.
+    /// Wall-clock seconds of the point's runs, summed (runs overlap, and
+    /// under load each waits: not CPU time; law.json's `wall_s` is the
+    /// sweep's own).
     pub run_s: f64,
 }
 
