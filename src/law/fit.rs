@@ -94,15 +94,15 @@ mod tests {
         )
         .unwrap();
         assert_eq!(fit.dof, 36);
-        for j in 0..4 {
+        for (j, want) in truth.iter().enumerate() {
             // within 3 standard errors (a 99.7 % band), and the errors are
             // of the size the noise implies (not zero, not huge)
             assert!(
-                (fit.coef[j] - truth[j]).abs() < 3.0 * fit.se[j],
+                (fit.coef[j] - want).abs() < 3.0 * fit.se[j],
                 "{}: {} vs {} +- {}",
                 fit.names[j],
                 fit.coef[j],
-                truth[j],
+                want,
                 fit.se[j]
             );
             assert!(fit.se[j] > 1e-4 && fit.se[j] < 0.5, "{fit:?}");

@@ -273,16 +273,22 @@ pub fn fit_kernel(kernel: &str, points: &[Point]) -> KernelLaw {
     let mine: Vec<&Point> = points.iter().filter(|p| p.kernel == kernel).collect();
     let unfitted = mine
         .iter()
-        .filter(|p| p.c0_min_over_u.is_none())
-        .map(|p| {
-            format!(
+        .filter_map(|p| match (p.c0_min_over_u, p.below_over_u) {
+            (None, _) => Some(format!(
                 "N = {}, Re = {}, alpha = {}: no c0 probed was ok on every start",
                 p.n, p.re, p.alpha
-            )
+            )),
+            (Some(c), None) => Some(format!(
+                "N = {}, Re = {}, alpha = {}: ok down to the lowest probe, {c} U (c0_min is at most that)",
+                p.n, p.re, p.alpha
+            )),
+            _ => None,
         })
         .collect();
+    // a c0_min with a not-ok c0 below it: bracketed, not censored
     let ok: Vec<(&Point, f64)> = mine
         .iter()
+        .filter(|p| p.below_over_u.is_some())
         .filter_map(|p| p.c0_min_over_u.map(|c| (*p, c.ln())))
         .collect();
     let cols = |pts: &[(&Point, f64)], alpha: bool| {
