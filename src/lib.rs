@@ -23,6 +23,7 @@ pub mod charts;
 pub mod cli;
 pub mod config;
 pub mod format;
+pub mod law;
 pub mod output;
 pub mod particles;
 pub mod problem;

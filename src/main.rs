@@ -27,6 +27,8 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// The main job: the paper's tables and Figure 4, c0 by every rule, the solver's verdicts, in out/report/index.html.
     Report(cli::report::ReportArgs),
+    /// The law of the minimal c0: the empirical c0_min over N x Re x alpha per kernel, fitted, against the paper's scaling and (2N - 1) U / N^2.
+    Law(cli::law::LawArgs),
     /// Time the solver per kernel and particle count, on one core and all: throughput, ns per pair, memory, GFLOP/s against peak.
     Bench(cli::bench::BenchArgs),
 }
@@ -39,6 +41,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => cli::sweep::main(args),
         Command::Report(args) => cli::report::main(args),
         Command::Bench(args) => cli::bench::main(args),
+        Command::Law(args) => cli::law::main(args),
     };
     cli::report(result)
 }

@@ -12,7 +12,8 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::SceneArgs;
-use crate::answer::{answer, Search};
+use crate::answer::{answer, resolve_empirical, Search};
+use crate::config::{C0Spec, Scene};
 use crate::problem::c0::table;
 use crate::solver::Class;
 
@@ -42,13 +43,27 @@ pub struct C0Args {
     /// Bisection tolerance on c0, relative (with --empirical).
     #[arg(long, default_value_t = 0.1)]
     pub rel_tol: f64,
+    /// Run every run to its end for its final class (with --empirical; by
+    /// default a run stops at the first output time it is not ok, its class
+    /// the one seen then, and the perturbed seeds of a c0 stop when one is
+    /// not ok: the answer is the same, faster).
+    #[arg(long)]
+    pub full: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
 }
 
 pub fn main(args: C0Args) -> Result<ExitCode> {
-    if args.empirical {
+    // `--c0 empirical` (or a scene's) asks for the solver's answer
+    let asks_empirical = matches!(
+        args.scene.load()?.c0,
+        crate::config::C0Spec::Rule {
+            rule: crate::config::C0Rule::Empirical,
+            ..
+        }
+    );
+    if args.empirical || asks_empirical {
         return empirical(&args);
     }
     let t = table(&args.scene.load()?)?;
@@ -102,6 +117,58 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// A progress bar of runs on stderr (hidden when quiet or not a terminal).
+fn runs_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(1);
+        bar.set_style(
+            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {pos}/{len} runs {msg}")
+                .expect("valid template"),
+        );
+        bar
+    }
+}
+
+/// For `run`: a scene whose c0 is `[F*]empirical` gets the `c0
+/// --empirical` recommendation for itself (the bisection with the default
+/// search: 3 seeds jittered by 0.05 d, margin 1.5), found first and said
+/// (on stdout, or stderr when stdout carries JSON); any other scene is
+/// returned as it is.
+pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Scene> {
+    let search = Search::default();
+    let bar = runs_bar(quiet);
+    bar.set_message("c0 = empirical: the bisection first");
+    let Some((s, b)) = resolve_empirical(&scene, &search, &bar)? else {
+        return Ok(scene);
+    };
+    bar.finish_and_clear();
+    let C0Spec::Value(c0) = s.c0 else {
+        unreachable!("resolve_empirical gives a number")
+    };
+    let line = format!(
+        "c0 = {} = {c0:.6} ({:.4} U): the smallest c0 ok on the perfect lattice and on {} seeds \
+         jittered by {} d is {:.6} ({} trials{}), times the margin {}; now the run itself",
+        scene.c0,
+        c0 / s.u,
+        search.seeds,
+        search.amplitude,
+        b.c0_min_ok.unwrap_or(f64::NAN),
+        b.trials.len(),
+        b.c0_max_not_ok
+            .map(|c| format!(", not ok at {c:.6}"))
+            .unwrap_or_default(),
+        search.margin
+    );
+    if to_stdout {
+        println!("{line}");
+    } else {
+        eprintln!("{line}");
+    }
+    Ok(s)
+}
+
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Everything but c0 must be valid before the first run.
@@ -111,20 +178,16 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
         seeds: args.seeds,
         margin: args.margin,
         rel_tol: args.rel_tol,
+        full: args.full,
         ..Search::default()
     };
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let bar = ProgressBar::new(1);
-        bar.set_style(
-            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {pos}/{len} runs")
-                .expect("valid template"),
-        );
-        bar
-    };
+    let bar = runs_bar(args.quiet);
     let a = answer(&scene, &search, &bar)?;
     bar.finish_and_clear();
+    let stopped_note = !search.full
+        && a.rules
+            .iter()
+            .any(|r| r.decided_t_perfect.is_some() || r.decided_t_perturbed.is_some());
     if args.json {
         println!("{}", serde_json::to_string_pretty(&a)?);
         return Ok(ExitCode::SUCCESS);
@@ -149,22 +212,34 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
         ),
     }
     println!(
-        "{:<20} {:>12} {:>10} {:>16} {:>16} {:>10} {:>9} {:>8} {:>9}",
+        "{:<20} {:>12} {:>10} {:>20} {:>20} {:>10} {:>9} {:>8} {:>9}",
         "rule", "c0", "c0/U", "perfect", "perturbed", "linf", "steps", "wall_s", "cost_rel"
     );
-    let cls = |c: Option<Class>| c.map_or("not run".to_string(), |c| c.to_string());
+    // "inaccurate@12.3": stopped at t = 12.3, where it was decided not ok
+    let cls = |c: Option<Class>, t: Option<f64>| match (c, t) {
+        (None, _) => "not run".to_string(),
+        (Some(c), None) => c.to_string(),
+        (Some(c), Some(t)) => format!("{c}@{}", crate::format::fmt_num(t)),
+    };
     for r in &a.rules {
         println!(
-            "{:<20} {:>12.6} {:>10.4} {:>16} {:>16} {:>10.3e} {:>9} {:>8.2} {:>9.2}",
+            "{:<20} {:>12.6} {:>10.4} {:>20} {:>20} {:>10.3e} {:>9} {:>8.2} {:>9.2}",
             r.name,
             r.c0,
             r.c0_over_u,
-            cls(r.outcome_perfect),
-            cls(r.outcome_perturbed),
+            cls(r.outcome_perfect, r.decided_t_perfect),
+            cls(r.outcome_perturbed, r.decided_t_perturbed),
             r.linf,
             r.steps,
             r.wall_s,
             r.cost_rel
+        );
+    }
+    if stopped_note {
+        println!(
+            "CLASS@T: stopped at t = T, the first output time it was not ok (its class then; run on \
+             it could only get worse, never ok); steps to there, cost_rel from the steps to t_end \
+             extrapolated; --full runs every run to its end"
         );
     }
     Ok(ExitCode::SUCCESS)

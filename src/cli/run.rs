@@ -68,6 +68,8 @@ pub struct RunArgs {
 
 pub fn main(args: RunArgs) -> Result<ExitCode> {
     let scene = args.scene.load()?;
+    // `--c0 empirical`: the bisection first, then this run at its answer.
+    let scene = super::c0::empirical_scene(scene, args.quiet, !args.json)?;
     // Check everything before touching the output folder.
     let problem = Problem::resolve(&scene, scene.kernel_info()?)?;
     output::prepare_dir(&args.out, args.force)?;

@@ -37,6 +37,12 @@ pub enum C0Rule {
     DualSphysics,
     /// c0 = 100 U (TrixiParticles.jl examples/fluid/poiseuille_flow_2d.jl).
     Trixi,
+    /// The solver's answer for the scene (`shearsph c0 --empirical`): the
+    /// smallest c0 ok on the perfect lattice and on every perturbed seed,
+    /// times the margin. Found by running the bisection first, so only the
+    /// commands that run the solver resolve it (`run` and `c0 --empirical`);
+    /// the problem layer refuses it.
+    Empirical,
     /// The paper's printed row of Table 2 for the kernel.
     Table2,
 }
@@ -57,6 +63,7 @@ impl fmt::Display for C0Rule {
             C0Rule::Gpusph => write!(f, "gpusph"),
             C0Rule::DualSphysics => write!(f, "dualsphysics"),
             C0Rule::Trixi => write!(f, "trixi"),
+            C0Rule::Empirical => write!(f, "empirical"),
             C0Rule::Table2 => write!(f, "table2"),
         }
     }
@@ -80,7 +87,7 @@ impl Default for C0Spec {
 }
 
 const C0_SYNTAX: &str = "a number, or [FACTOR*]RULE with RULE one of derived, derived:MODEL, \
-     derived-eps, derived-eps:EPS0, rule10, morris1997, gpusph, dualsphysics, trixi, table2";
+     derived-eps, derived-eps:EPS0, rule10, morris1997, gpusph, dualsphysics, trixi, table2, empirical";
 
 impl FromStr for C0Spec {
     type Err = String;
@@ -109,6 +116,7 @@ impl FromStr for C0Spec {
             "gpusph" => C0Rule::Gpusph,
             "dualsphysics" => C0Rule::DualSphysics,
             "trixi" => C0Rule::Trixi,
+            "empirical" => C0Rule::Empirical,
             "table2" => C0Rule::Table2,
             r => {
                 if let Some(e) = r.strip_prefix("derived-eps:") {
@@ -203,6 +211,8 @@ mod tests {
             "gpusph",
             "dualsphysics",
             "trixi",
+            "empirical",
+            "1.2*empirical",
             "0.5*derived",
             "0.01*rule10",
         ] {

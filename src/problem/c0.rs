@@ -36,6 +36,14 @@ pub fn by_rule(
     match rule {
         C0Rule::Rule10 => Ok((10.0 * u, name)),
         C0Rule::Trixi => Ok((100.0 * u, name)),
+        // the solver's answer: the layers above resolve it by running the
+        // bisection first (`crate::answer::resolve_empirical`)
+        C0Rule::Empirical => Err(invalid(
+            "c0",
+            "empirical is the solver's answer for the scene: `shearsph run` and `shearsph c0 \
+             --empirical` find it by running the bisection first; here give a number or another \
+             rule (`shearsph c0` lists them)",
+        )),
         C0Rule::Gpusph => Ok((20.0 * (2.0 * p * l).sqrt().max(u), name)),
         C0Rule::DualSphysics => Ok((20.0 * (p * l).sqrt(), name)),
         C0Rule::Morris1997 => {
@@ -388,6 +396,21 @@ mod tests {
 
     fn close(a: f64, b: f64) {
         assert!((a - b).abs() <= 1e-12 * b.abs(), "{a} != {b}");
+    }
+
+    #[test]
+    fn empirical_is_refused_here_with_where_it_is_found() {
+        let mut scene = Scene::builtin();
+        scene.c0 = "empirical".parse().unwrap();
+        let info = scene.kernel_info().unwrap();
+        let channel = Channel::resolve(&scene, info).unwrap();
+        let err = by_spec(&scene.c0, info, &channel, scene.alpha)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("`c0`") && err.contains("c0 --empirical"),
+            "{err}"
+        );
     }
 
     #[test]
