@@ -23,6 +23,9 @@ pub struct ReportArgs {
     /// Overwrite the files of an existing output folder.
     #[arg(long)]
     pub force: bool,
+    /// Add the law of the minimal c0 from a folder `shearsph law` wrote.
+    #[arg(long, value_name = "DIR")]
+    pub law: Option<PathBuf>,
     /// A tiny report in seconds (short runs, small grids): for tests.
     #[arg(long)]
     pub quick: bool,
@@ -56,6 +59,7 @@ pub fn main(args: ReportArgs) -> Result<ExitCode> {
     let opts = Options {
         par: Parallel::new(args.jobs, 1),
         force: args.force,
+        law: args.law.clone(),
     };
     let data = match report::run(&config, args.quick, &args.out, opts, &stop, &bar, &log) {
         Ok(data) => data,

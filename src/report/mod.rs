@@ -13,6 +13,7 @@ mod answer;
 mod empirical;
 mod figures;
 mod html;
+pub mod law;
 mod plan;
 pub(crate) mod tables;
 mod verdict;
@@ -43,10 +44,12 @@ pub use tables::{C0Compare, EpsCompare, Table2Row};
 pub use verdict::Verdict;
 
 /// How to run the report.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Options {
     pub par: Parallel,
     pub force: bool,
+    /// A `shearsph law` output folder whose section the report shows.
+    pub law: Option<std::path::PathBuf>,
 }
 
 /// Everything the report computed: what the HTML and the files show.
@@ -69,6 +72,8 @@ pub struct ReportData {
     pub verdicts: Vec<Verdict>,
     pub wall_s: f64,
     pub jobs: usize,
+    /// The law of the minimal c0, when a `shearsph law` folder was given.
+    pub law: Option<law::LawSection>,
 }
 
 /// Run the report into `out`. `stop` (Ctrl-C) ends it early with an error
@@ -84,6 +89,8 @@ pub fn run(
     log: &dyn Fn(&str),
 ) -> Result<ReportData> {
     let start = Instant::now();
+    // A law folder that cannot be read fails before any run.
+    let law = opts.law.as_deref().map(law::law_section).transpose()?;
     prepare_dir(out, opts.force)?;
     let infos = config.kernel_infos();
     let interrupted = || {
@@ -165,6 +172,7 @@ pub fn run(
         verdicts,
         wall_s: start.elapsed().as_secs_f64(),
         jobs: opts.par.jobs,
+        law,
     };
     write::write(&data, out)?;
     log(&format!(

@@ -50,6 +50,11 @@ pub(super) fn write(d: &ReportData, out: &Path) -> Result<()> {
     speed(d, &mut f)?;
     maps(d, &mut f)?;
     tables(d, &f)?;
+    if let Some(law) = &d.law {
+        for (name, svg) in &law.figures {
+            f.put(name, svg)?;
+        }
+    }
     f.put("index.html", &html::page(d, &f.figures))?;
     f.set.commit()?;
     Ok(())

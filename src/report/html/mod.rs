@@ -130,6 +130,9 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
     runs::speed(&mut h, d, figures);
     runs::maps(&mut h, d, figures);
     runs::empirical(&mut h, d);
+    if let Some(law) = &d.law {
+        h.push_str(&law.html);
+    }
     method(&mut h, d);
     files(&mut h, figures);
     h
