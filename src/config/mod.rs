@@ -22,4 +22,6 @@ pub use error::{check_alpha, SceneError};
 pub(crate) use error::{invalid, positive};
 pub use lookup::{discretisation, kernel_info, parse_h_over_d, rational_text};
 pub use overlay::{overlay, DEFAULT_SCENE};
-pub use scene::{ClassRules, Initial, PressureForm, Scene, ViscousNormalisation, WallVelocity, DEFAULT_ALPHA};
+pub use scene::{
+    ClassRules, Initial, PressureForm, Scene, ViscousNormalisation, WallVelocity, DEFAULT_ALPHA,
+};
