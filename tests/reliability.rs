@@ -153,7 +153,7 @@ fn item5_output_folder_is_probed_and_sigterm_keeps_outputs() {
     // SIGTERM as SIGINT: exit 130, the outputs so far written.
     let out = tmp.path().join("run");
     let mut child = Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(["run", "--quiet", "--n", "40", "--max-run-s", "1e5", "--out"])
+        .args(["run", "--quiet", "--n", "90", "--max-run-s", "1e6", "--out"])
         .arg(&out)
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -523,7 +523,7 @@ fn item6_a_row_not_in_the_grid_is_skipped() {
     let mut row: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
     let stray = "monaghan/n=77/re=10/alpha=0.1/c0=rule10";
     row["id"] = stray.into();
-    row["n"] = 77.into();
+    row["n_layers"] = 77.into();
     std::fs::write(&jsonl, format!("{text}{row}\n")).unwrap();
 
     let resumed = sweep();

@@ -1,0 +1,132 @@
+//! The neighbour lists' tests (moved out of mod.rs unchanged).
+
+mod tests {
+    use super::super::*;
+    use crate::problem::lattice::Lattice;
+
+    /// Brute force over all pairs and images.
+    fn brute(x: &[f64], y: &[f64], width: f64, cutoff: f64, i: usize) -> Vec<(u32, i8)> {
+        let mut out = Vec::new();
+        for j in 0..x.len() {
+            for s in -1i8..=1 {
+                if s == 0 && i == j {
+                    continue;
+                }
+                let dx = x[i] - x[j] + f64::from(s) * width;
+                let dy = y[i] - y[j];
+                if dx * dx + dy * dy <= cutoff * cutoff {
+                    out.push((j as u32, s));
+                }
+            }
+        }
+        out.sort();
+        out
+    }
+
+    #[test]
+    fn matches_brute_force_on_a_jittered_lattice() {
+        let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
+        let (mut x, mut y, _) = l.positions();
+        // Deterministic jitter, then wrap x into the strip.
+        for i in 0..x.len() {
+            let s = (i as f64 * 12.9898).sin() * 43758.5453;
+            x[i] = (x[i] + 0.3 * (s - s.floor() - 0.5)).rem_euclid(l.width);
+            y[i] += 0.2 * ((i as f64 * 7.31).sin());
+        }
+        let cutoff = 2.3;
+        let mut list = NeighbourList::default();
+        list.build(&x, &y, l.width, cutoff, l.columns as usize);
+        for i in 0..x.len() {
+            let mut got: Vec<(u32, i8)> = list
+                .of(i)
+                .iter()
+                .map(|&e| {
+                    let off = Entry::offset(e, list.width());
+                    (Entry::index(e) as u32, (off / l.width).round() as i8)
+                })
+                .collect();
+            got.sort();
+            assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
+        }
+        // Own entries first, and in the pair table's stream in turn; every
+        // other one's source is its mirror, an own entry of its neighbour;
+        // padding's the zero place.
+        let (stream, owners) = list.own_stream();
+        for i in 0..x.len() {
+            let at = list.own_start(i);
+            assert_eq!(&stream[at..at + list.own(i)], &list.of(i)[..list.own(i)]);
+            assert!(owners[at..at + list.own(i)]
+                .iter()
+                .all(|&o| o as usize == i));
+        }
+        assert_eq!(
+            list.own_start(x.len() - 1) + list.own(x.len() - 1),
+            list.own_pairs()
+        );
+        for i in 0..x.len() {
+            let (own, count) = (list.own(i), list.of(i).len());
+            assert!(list.of(i)[..own].iter().all(|&e| {
+                let j = Entry::index(e);
+                j > i || (j == i && Entry::image(e) == 2)
+            }));
+            for (slot, &src) in list.sources_padded(i).iter().enumerate() {
+                let src = src as usize;
+                if slot < own {
+                    assert_eq!(src, list.own_start(i) + slot);
+                } else if slot < count {
+                    let e = list.of(i)[slot];
+                    let j = Entry::index(e);
+                    let k = src.wrapping_sub(list.own_start(j));
+                    assert!(k < list.own(j), "particle {i} slot {slot}");
+                    let m = list.of(j)[k];
+                    assert_eq!(Entry::index(m), i);
+                    assert_eq!(Entry::image(m), 2 - Entry::image(e));
+                } else {
+                    assert_eq!(src, list.own_pairs());
+                }
+            }
+        }
+    }
+}
+
+mod stale_tests {
+    use super::super::*;
+    use crate::problem::lattice::Lattice;
+
+    #[test]
+    fn shear_between_near_layers_triggers_a_rebuild() {
+        let l = Lattice::new(crate::kernel::Lattice::Triangular, 6, 1.0, 1.0, 2.0);
+        let (x, y, layer) = l.positions();
+        let mut list = NeighbourList::default();
+        list.build(&x, &y, l.width, 2.3, l.columns as usize);
+        let n_blocks = x.len() / l.columns as usize;
+        // Every block moves along x by the steady profile's speed times t.
+        let moved = |t: f64| -> Vec<Displacements> {
+            (0..n_blocks)
+                .map(|b| {
+                    let n = layer[b * l.columns as usize];
+                    let u = if n.abs() < 6 {
+                        1.0 - (n as f64 / 6.0).powi(2)
+                    } else {
+                        0.0
+                    };
+                    let mut d = Displacements::EMPTY;
+                    d.add(u * t, 0.0);
+                    d
+                })
+                .collect()
+        };
+        // Blocks within reach are at most 2 layers apart (3 dy > 2.3); the
+        // fastest relative motion among them is layer 4 (u = 20/36) against
+        // the wall layer 6.
+        let v = 20.0 / 36.0;
+        let stale = |b: &[Displacements]| list.stale(|k| b[k], 0.3);
+        assert!(!stale(&moved(0.29 / v)));
+        assert!(stale(&moved(0.31 / v)));
+        // A transverse spread over the skin always does.
+        let mut b = vec![Displacements::ZERO; n_blocks];
+        b[0] = Displacements::EMPTY;
+        b[0].add(0.0, 0.31);
+        assert!(stale(&b));
+    }
+}
