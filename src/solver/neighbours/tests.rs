@@ -1,6 +1,6 @@
 //! The neighbour lists' tests (moved out of mod.rs unchanged).
 
-mod tests {
+mod lists {
     use super::super::*;
     use crate::problem::lattice::Lattice;
 
