@@ -123,28 +123,13 @@ pub fn pysph_match(
     let problem = pysph_match_problem(wall_velocity, layers, columns)?;
     let scale = (f64::from(layers) / f64::from(PYSPH_MATCH_LAYERS)).powi(2);
     let steps = ((steps as f64 * scale).round() as u64).max(1);
-    let (r, _) = measure(&problem, steps, threads)?;
-    let particles = r.n_fluid + r.n_wall;
-    let flow = &problem.flow;
-    Ok(PeerRun {
-        code: "shearsph (morris = quintic spline)".into(),
-        wall_velocity,
+    run_matched(
+        "shearsph (morris = quintic spline)",
+        &problem,
         layers,
-        discretisation: problem.discretisation.label(),
-        re: problem.re,
-        c0_over_u: problem.c0 / flow.u,
-        particles,
-        columns: problem.lattice.columns,
-        n_fluid: r.n_fluid,
-        n_wall: r.n_wall,
-        steps: r.steps,
+        steps,
         threads,
-        wall_s: r.wall_s,
-        particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s,
-        t: r.last.t,
-        tau: r.last.t * flow.nu / (flow.b * flow.b),
-        linf_rel_err: r.last.linf_rel_err,
-    })
+    )
 }
 
 /// SPHinXsys's stock `test_2d_poiseuille_flow` in shearsph's terms (see
@@ -218,11 +203,28 @@ pub fn sphinxsys_match(
     let first = (est.steps as u64).max(1);
     let (probe, _) = measure(&problem, first, threads)?;
     let steps = ((first as f64 * problem.t_end / probe.last.t).round() as u64).max(1);
-    let (r, _) = measure(&problem, steps, threads)?;
+    run_matched(
+        "shearsph (wendland_c2 = Wendland C2)",
+        &problem,
+        layers,
+        steps,
+        threads,
+    )
+}
+
+/// Run a matched scene `steps` steps on `threads` threads and report it.
+fn run_matched(
+    code: &str,
+    problem: &Problem,
+    layers: u32,
+    steps: u64,
+    threads: usize,
+) -> Result<PeerRun> {
+    let (r, _) = measure(problem, steps, threads)?;
     let particles = r.n_fluid + r.n_wall;
     let flow = &problem.flow;
     Ok(PeerRun {
-        code: "shearsph (wendland_c2 = Wendland C2)".into(),
+        code: code.into(),
         wall_velocity: problem.wall_velocity,
         layers,
         discretisation: problem.discretisation.label(),
