@@ -303,19 +303,48 @@ pub fn trial(scene: &Scene, c0: f64, search: &Search, bar: &ProgressBar) -> Resu
 }
 
 fn check(search: &Search) -> Result<()> {
-    if !(search.amplitude > 0.0 && search.amplitude < 0.5) {
-        bail!(
-            "--amplitude {} (in d) must be in (0, 0.5)",
-            search.amplitude
-        );
+    search.check(|field| format!("--{}", field.replace('_', "-")))
+}
+
+impl Search {
+    /// Every number of the search in its range, finite; `name` gives how the
+    /// caller calls a field (a flag, or a config file's field), for the
+    /// message.
+    pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
+        if !(self.amplitude > 0.0 && self.amplitude < 0.5) {
+            bail!(
+                "{} = {} (in d) must be in (0, 0.5)",
+                name("amplitude"),
+                self.amplitude
+            );
+        }
+        if self.seeds == 0 {
+            bail!(
+                "{} = 0: at least one perturbed seed is needed (the answer is the smallest c0 ok on every seed)",
+                name("seeds")
+            );
+        }
+        for (field, v, ok) in [
+            ("margin", self.margin, self.margin >= 1.0),
+            ("rel_tol", self.rel_tol, self.rel_tol > 0.0),
+            ("lo_over_u", self.lo_over_u, self.lo_over_u > 0.0),
+            ("hi_over_u", self.hi_over_u, self.hi_over_u > self.lo_over_u),
+        ] {
+            if !(ok && v.is_finite()) {
+                bail!(
+                    "{} = {v} must be a finite number ({})",
+                    name(field),
+                    match field {
+                        "margin" => "at least 1",
+                        "rel_tol" => "positive",
+                        "lo_over_u" => "positive: the bracket's low end, in U",
+                        _ => "above the bracket's low end lo_over_u, in U",
+                    }
+                );
+            }
+        }
+        Ok(())
     }
-    if !(search.margin >= 1.0 && search.rel_tol > 0.0) {
-        bail!("--margin must be at least 1 and --rel-tol positive");
-    }
-    if !(search.lo_over_u > 0.0 && search.hi_over_u > search.lo_over_u) {
-        bail!("the bracket must be 0 < lo < hi");
-    }
-    Ok(())
 }
 
 /// The trials the bisection takes at most, for a progress bar's length.

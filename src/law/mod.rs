@@ -78,6 +78,8 @@ impl Config {
                 );
             }
         }
+        c.search()
+            .check(|field| format!("law config {origin}: `{field}`"))?;
         Ok(c)
     }
 
@@ -418,6 +420,36 @@ mod tests {
             law.layers.unwrap().rms > 0.1,
             "(2N-1)/N^2 does not follow 1/sqrt(N Re)"
         );
+    }
+
+    #[test]
+    fn a_search_field_out_of_range_names_the_file_and_the_field() {
+        for (field, bad) in [
+            ("amplitude", "-1.0"),
+            ("amplitude", "nan"),
+            ("seeds", "0"),
+            ("rel_tol", "0.0"),
+            ("rel_tol", "inf"),
+            ("lo_over_u", "-0.01"),
+            ("hi_over_u", "inf"),
+            ("hi_over_u", "0.001"),
+        ] {
+            let text: String = DEFAULT_CONFIG
+                .lines()
+                .map(|l| {
+                    if l.starts_with(&format!("{field} =")) {
+                        format!("{field} = {bad}\n")
+                    } else {
+                        format!("{l}\n")
+                    }
+                })
+                .collect();
+            let err = Config::parse(&text, "my-law.toml").unwrap_err().to_string();
+            assert!(
+                err.contains("my-law.toml") && err.contains(&format!("`{field}`")),
+                "{field} = {bad}: {err}"
+            );
+        }
     }
 
     #[test]
