@@ -125,12 +125,17 @@ impl Config {
                 bail!("empirical.re = {re} is not one of maps.re: the bisection starts from the map's row at that Re");
             }
         }
-        for (field, list) in [
-            ("perturbed.re", &self.perturbed.re),
-            ("square.re", &self.square.re),
+        // The perturbed lattice is always run; the square one only when
+        // `square.re` names some Re (empty: none).
+        for (field, list, optional) in [
+            ("perturbed.re", &self.perturbed.re, false),
+            ("square.re", &self.square.re, true),
         ] {
             if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
                 bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
+            }
+            if optional && list.is_empty() {
+                continue;
             }
             if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
                 bail!("{field} lacks empirical.re = {re}: the bisection starts from the map's row at that Re");
@@ -548,6 +553,34 @@ mod tests {
     use std::collections::BTreeSet;
 
     use super::*;
+
+    /// `square.re = []` runs no square lattice (as documented) and is
+    /// accepted; a list that names some Re must cover empirical.re, as
+    /// perturbed.re must.
+    #[test]
+    fn an_empty_square_re_runs_no_square_lattice() {
+        let mut c = Config::quick();
+        c.square.re.clear();
+        c.check().expect("square.re = [] is valid");
+        let plan = c.plan();
+        assert!(plan.keys.iter().flatten().all(|k| match k.role {
+            Role::Rule { disc, .. } | Role::Map { disc, .. } => disc != Disc::Square,
+            Role::Speed { .. } => true,
+        }));
+        let only = |re: f64| vec![re];
+        let missing = *c.empirical.re.last().expect("the quick config has one");
+        let other = *c.maps.re.iter().find(|&&r| r != missing).expect("two Re");
+        for field in ["square.re", "perturbed.re"] {
+            let mut bad = Config::quick();
+            if field == "square.re" {
+                bad.square.re = only(other);
+            } else {
+                bad.perturbed.re = only(other);
+            }
+            let err = bad.check().expect_err(field).to_string();
+            assert!(err.contains(field) && err.contains("lacks"), "{err}");
+        }
+    }
 
     #[test]
     fn embedded_configs_parse_and_cover_the_verdicts() {

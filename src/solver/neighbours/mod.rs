@@ -7,7 +7,10 @@
 //! bits, the periodic image it was found through ([`Entry`]); 4 bytes per
 //! listed pair. Order within a list is fixed (by distance at the rebuild, ties
 //! by particle index and image), so every sum over it is the same whatever
-//! the thread count.
+//! the thread count. For the force pass, each list is also cut into
+//! [`Window`]s, runs of LANES consecutive indices found through one image:
+//! the lattice keeps its rows in index order, so a neighbour row is one or
+//! two windows, loaded as contiguous vectors instead of gathered.
 //!
 //! Rebuild rule: a pair not in the list was more than R h + skin apart; it
 //! can only have come within R h if the two displacements since the rebuild
@@ -43,6 +46,10 @@ pub struct NeighbourList {
     own_start: Vec<u32>,
     own_entries: Vec<u32>,
     own_owner: Vec<u32>,
+    /// Every list again as windows ([`Window`]), for the force pass:
+    /// particle i's are `windows[win_start[i]..win_start[i + 1]]`.
+    win_start: Vec<u32>,
+    windows: Vec<Window>,
     /// The strip's width: the images' offsets ([`Entry::offset`]).
     width: f64,
     /// Cell list in y (the strip is too narrow to bin in x): particle indices
@@ -118,6 +125,55 @@ impl Entry {
     #[inline(always)]
     pub fn image(e: u32) -> usize {
         (e >> Self::IMAGE_SHIFT) as usize
+    }
+}
+
+/// A piece of a list as LANES consecutive particle indices: the listed
+/// neighbours j in `start..start + LANES` found through one image, as bits
+/// of `mask` (bit l for j = start + l), and for each lane where its pair's
+/// (dW/dq)/q is in the pair table (the zero place for a lane not listed).
+/// The lattice keeps its rows in index order, so a row of i's neighbours is
+/// a few consecutive indices: the force pass loads a window's positions,
+/// velocities, pressures and volumes as contiguous vectors, and gathers only
+/// the kernel's values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
+pub struct Window {
+    pub start: u32,
+    /// The lanes listed (bits 0-7) and the image code (bits 8-9, as
+    /// [`Entry::image`]).
+    meta: u32,
+    pub sources: [u32; LANES],
+}
+
+impl Window {
+    /// A window at `start` with the lanes `mask` (bits 0-7) listed through
+    /// the image code `image` (0 to 2, as [`Entry::image`]).
+    pub fn new(start: u32, mask: u8, image: u32, sources: [u32; LANES]) -> Window {
+        assert!(image <= 2, "image codes are 0, 1 and 2");
+        Window {
+            start,
+            meta: u32::from(mask) | image << 8,
+            sources,
+        }
+    }
+
+    /// The lanes listed, bit l for particle `start + l`.
+    #[inline(always)]
+    pub fn mask(&self) -> u32 {
+        self.meta & 0xff
+    }
+
+    /// The x offset of the window's image, as [`Entry::offset`].
+    #[inline(always)]
+    pub fn offset(&self, width: f64) -> f64 {
+        (f64::from(self.meta >> 8) - 1.0) * width
+    }
+
+    /// The image code (0 to 2).
+    #[inline(always)]
+    pub fn image(&self) -> usize {
+        (self.meta >> 8) as usize
     }
 }
 
@@ -240,6 +296,18 @@ impl NeighbourList {
         (&self.own_entries, &self.own_owner)
     }
 
+    /// Particle i's list as windows of consecutive indices ([`Window`]),
+    /// in a fixed order (image, then index).
+    #[inline]
+    pub fn windows(&self, i: usize) -> &[Window] {
+        &self.windows[self.win_start[i] as usize..self.win_start[i + 1] as usize]
+    }
+
+    /// Windows of all lists.
+    pub fn window_count(&self) -> usize {
+        self.windows.len()
+    }
+
     /// Total number of listed pairs (each counted from both sides).
     pub fn pairs(&self) -> usize {
         self.count.iter().map(|&c| c as usize).sum()
@@ -257,8 +325,10 @@ impl NeighbourList {
             + self.bin_start.capacity()
             + self.bin_items.capacity()
             + self.near_start.capacity()
-            + self.near.capacity())
+            + self.near.capacity()
+            + self.win_start.capacity())
             * size_of::<u32>()
+            + self.windows.capacity() * size_of::<Window>()
     }
 
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
@@ -359,6 +429,7 @@ impl NeighbourList {
         self.own = own;
         self.fill_own_stream();
         self.find_sources();
+        self.fill_windows();
         self.rebuilds += 1;
     }
 
@@ -425,6 +496,68 @@ impl NeighbourList {
                     *src = zero;
                 }
             });
+    }
+
+    /// Cut every list into [`Window`]s: its entries ordered by image, then
+    /// index, each window starting at the first entry not yet in one and
+    /// taking every later entry of the same image below its start + LANES.
+    /// A window that would run past the last particle starts LANES before
+    /// the end instead (its lanes shift with it), so every window's
+    /// particles exist: a list needs at least LANES particles.
+    fn fill_windows(&mut self) {
+        let n = self.count.len();
+        assert!(
+            n >= LANES,
+            "the force pass needs at least {LANES} particles (got {n})"
+        );
+        let last_start = (n - LANES) as u32;
+        let zero = self.own_entries.len() as u32;
+        let stride = self.stride;
+        let (entries, source, count) = (&self.entries, &self.source, &self.count);
+        let per: Vec<Vec<Window>> = (0..n)
+            .into_par_iter()
+            .with_min_len(BUILD_CHUNK)
+            .map_init(Vec::new, |slots, i| {
+                let base = i * stride;
+                let c = count[i] as usize;
+                slots.clear();
+                slots.extend(
+                    entries[base..base + c]
+                        .iter()
+                        .zip(&source[base..base + c])
+                        .map(|(&e, &src)| (Entry::image(e) as u32, Entry::index(e) as u32, src)),
+                );
+                slots.sort_unstable();
+                let mut out: Vec<Window> = Vec::new();
+                for &(image, j, src) in slots.iter() {
+                    let fits = out.last().is_some_and(|w: &Window| {
+                        w.image() as u32 == image && j < w.start + LANES as u32
+                    });
+                    if !fits {
+                        out.push(Window::new(j.min(last_start), 0, image, [zero; LANES]));
+                    }
+                    let w = out.last_mut().expect("a window was just pushed");
+                    let lane = (j - w.start) as usize;
+                    w.meta |= 1 << lane;
+                    w.sources[lane] = src;
+                }
+                out
+            })
+            .collect();
+        self.win_start.clear();
+        self.win_start.reserve(n + 1);
+        self.win_start.push(0);
+        let mut total = 0usize;
+        for w in &per {
+            total += w.len();
+            self.win_start
+                .push(u32::try_from(total).expect("windows fit in u32"));
+        }
+        self.windows.clear();
+        self.windows.reserve(total);
+        for w in per {
+            self.windows.extend_from_slice(&w);
+        }
     }
 
     /// Whether the list may miss a pair within `cutoff - skin`, given each

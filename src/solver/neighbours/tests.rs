@@ -1,4 +1,4 @@
-//! The neighbour lists' tests (moved out of mod.rs unchanged).
+//! The neighbour lists' tests.
 
 mod lists {
     use super::super::*;
@@ -86,6 +86,32 @@ mod lists {
                 }
             }
         }
+        // The windows hold every entry once, at its index's lane and with
+        // its slot's source, and nothing else: a lane not listed points at
+        // the zero place; every window lies inside the arrays.
+        for i in 0..x.len() {
+            let mut want: Vec<(usize, usize, u32)> = list
+                .of(i)
+                .iter()
+                .zip(list.sources_padded(i))
+                .map(|(&e, &src)| (Entry::image(e), Entry::index(e), src))
+                .collect();
+            want.sort();
+            let mut got = Vec::new();
+            for w in list.windows(i) {
+                assert!(w.start as usize + LANES <= x.len(), "particle {i}");
+                for l in 0..LANES {
+                    if w.mask() & (1 << l) != 0 {
+                        got.push((w.image(), w.start as usize + l, w.sources[l]));
+                    } else {
+                        assert_eq!(w.sources[l] as usize, list.own_pairs());
+                    }
+                }
+            }
+            got.sort();
+            assert_eq!(got, want, "particle {i}");
+        }
+        assert!(list.window_count() * 2 < list.pairs(), "rows come in runs");
     }
 }
 

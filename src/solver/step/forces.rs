@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use super::isa::{lane_sum, Isa};
 use super::state::{Params, State};
 use super::CHUNK;
-use crate::solver::neighbours::{Entry, NeighbourList, LANES};
+use crate::solver::neighbours::{NeighbourList, Window, LANES};
 
 /// What the force pass saw at the end of the step.
 #[derive(Debug, Clone, Copy)]
@@ -67,10 +67,9 @@ pub(super) struct Scales {
 pub(super) struct ForceArgs<'a> {
     /// The particle.
     pub i: usize,
-    /// Its padded list.
-    pub entries: &'a [u32],
-    /// Its slots' sources and the (dW/dq)/q they point into.
-    pub sources: &'a [u32],
+    /// Its list as windows of consecutive indices.
+    pub windows: &'a [Window],
+    /// The (dW/dq)/q the windows' sources point into.
     pub pair_g: &'a [f64],
     /// Positions (x, y).
     pub xs: (&'a [f64], &'a [f64]),
@@ -87,16 +86,25 @@ pub(super) struct ForceArgs<'a> {
     pub sc: Scales,
 }
 
+/// LANES consecutive values from `start`: one contiguous load.
+#[inline(always)]
+fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
+    v[start..start + LANES]
+        .try_into()
+        .expect("a window's particles exist")
+}
+
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
-/// loop over whole groups of LANES slots (the list is padded to them), each
-/// slot's term added straight into its lane's accumulator, without branches
-/// or bounds checks, as in [`super::density::pair_kernel`].
+/// loop over its windows ([`Window`]), each window's particle values loaded
+/// as contiguous vectors and only its (dW/dq)/q gathered, each lane's term
+/// added into its lane's accumulator when the lane is listed (a select: a
+/// lane not listed adds nothing, whatever its values), without branches or
+/// bounds checks in the lanes.
 #[inline(always)]
 pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -> (f64, f64) {
     let ForceArgs {
         i,
-        entries,
-        sources,
+        windows,
         pair_g,
         xs,
         vs,
@@ -112,35 +120,41 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
     assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
     assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
     assert!(!pair_g.is_empty());
-    let last = n - 1;
     let last_g = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
-    for (group, src_group) in entries.chunks_exact(LANES).zip(sources.chunks_exact(LANES)) {
+    for win in windows {
+        let start = win.start as usize;
+        let (xw, yw) = (lanes(x, start), lanes(y, start));
+        let (vxw, vyw) = (lanes(vpx, start), lanes(vpy, start));
+        let (pqw, volw) = (lanes(pq, start), lanes(vol, start));
+        let depthw = if MIRROR { lanes(depth, start) } else { xw };
+        let offset = win.offset(width);
         for l in 0..LANES {
-            let (e, src) = (group[l], src_group[l]);
-            let j = Entry::index_below(e, last);
-            let g = pair_g[src.min(last_g) as usize];
+            let g = pair_g[win.sources[l].min(last_g) as usize];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
-            let dx = xi - x[j] + Entry::offset(e, width);
-            let dy = yi - y[j];
-            let p = sc.pressure * (pqi + pq[j]);
-            let (dvx, dvy) = (vxi - vpx[j], vyi - vpy[j]);
-            let mut lv = sc.visc * vol[j];
+            let dx = xi - xw[l] + offset;
+            let dy = yi - yw[l];
+            let p = sc.pressure * (pqi + pqw[l]);
+            let (dvx, dvy) = (vxi - vxw[l], vyi - vyw[l]);
+            let mut lv = sc.visc * volw[l];
             if MIRROR {
                 // A wall particle at depth D beyond the no-slip plane shows
                 // fluid particle i, at distance g from it, the velocity
                 // -(D / g) v_i: the velocity difference grows by beta.
-                lv *= 1.0 + (depth[j] * sc.inv_gap).min(beta_cap);
+                lv *= 1.0 + (depthw[l] * sc.inv_gap).min(beta_cap);
             }
             let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
             if AV {
                 // Only approaching pairs (v_ij . r_ij < 0), branch-free.
                 let r2 = dx * dx + dy * dy;
                 let vr = dvx * dx + dvy * dy;
-                let a = sc.av * (vr.min(0.0) / r2);
+                // r^2 > 0 for every listed pair; the floor keeps the term
+                // 0, not NaN, in a lane that is not listed and holds i
+                // itself (g = 0 there).
+                let a = sc.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
                 fx += a * dx;
                 fy += a * dy;
             }
@@ -258,8 +272,7 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
     let mut seen = Forces::NONE;
     for k in 0..ax.len() {
         let i = c * CHUNK + k;
-        let entries = inp.list.of_padded(i);
-        let sources = inp.list.sources_padded(i);
+        let windows = inp.list.windows(i);
         let inv_rho = 1.0 / inp.rho[i];
         let sc = Scales {
             pressure: if SYMMETRIC {
@@ -276,8 +289,7 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
         };
         let args = ForceArgs {
             i,
-            entries,
-            sources,
+            windows,
             pair_g: inp.pair_g,
             xs: (inp.x, inp.y),
             vs: (inp.vpx, inp.vpy),
@@ -324,6 +336,7 @@ mod tests {
     use super::super::isa::BLOCK;
     use super::*;
     use crate::kernels::Morris;
+    use crate::solver::neighbours::Entry;
 
     /// The pair loops give the same bits whatever instructions they were
     /// compiled for: the vector builds only run the same operations in the
@@ -352,6 +365,16 @@ mod tests {
         let sources: Vec<u32> = (0..entries.len() as u32)
             .map(|s| if s < 37 { (s * 7 + 3) % 37 } else { 40 })
             .collect();
+        // Windows over the same particles: starts anywhere (the last one
+        // at the end of the arrays), some lanes listed, every image.
+        let windows: Vec<Window> = (0..6u32)
+            .map(|k| {
+                let start = if k == 5 { n as u32 - 8 } else { k * 31 % 150 };
+                let mask = [0xff, 0x5a, 0x01, 0x80, 0x3c, 0xe7][k as usize];
+                let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 41);
+                Window::new(start, mask, k % 3, src)
+            })
+            .collect();
         let run = |isa: Isa| {
             let mut w = vec![0.0; entries.len() + 1];
             let mut pg = vec![0.0; entries.len() + 1];
@@ -363,8 +386,7 @@ mod tests {
             let w_sum = pair_gather_on(isa, &sources, &w);
             let args = ForceArgs {
                 i: 0,
-                entries: &entries[..],
-                sources: &sources[..],
+                windows: &windows[..],
                 pair_g: &pg[..],
                 xs: (&x[..], &y[..]),
                 vs: (&v[..], &v[..]),

@@ -2,9 +2,9 @@
 //! file per phase: [`state`] (particles and the per-step constants),
 //! [`integrate`] (kick-drift), [`density`] (summation and EOS), [`forces`]
 //! (accelerations and the closing kick), [`isa`] (the instruction set the
-//! pair loops run with). Each pass is a gather over the neighbour list,
-//! parallel over fixed chunks of particles; a particle's sums run in its
-//! list's order, so results do not depend on the thread count.
+//! pair loops run with). Each pass reads the neighbour list (the force pass
+//! its windows), parallel over fixed chunks of particles; a particle's sums
+//! run in its list's order, so results do not depend on the thread count.
 
 /// Defines `$on(isa, args..)`: `$inner(args..)` compiled for the instruction
 /// set `isa` (AVX-512, AVX2 or the baseline), each a `#[target_feature]`

@@ -37,8 +37,9 @@ pub(crate) struct State {
     /// and step, in the pair table's place of the own entry it was
     /// evaluated for ([`NeighbourList::own_stream`], `pair_slots` of them),
     /// and after them a place kept at zero for padding; each entry finds its
-    /// pair's through [`NeighbourList::sources_padded`]. The force pass has
-    /// no distance test and no kernel.
+    /// pair's through [`NeighbourList::sources_padded`] (and each lane of a
+    /// [`crate::solver::neighbours::Window`] through its sources). The force
+    /// pass has no distance test and no kernel.
     pub pair_w: Vec<f64>,
     pub pair_g: Vec<f64>,
     pub pair_slots: usize,
