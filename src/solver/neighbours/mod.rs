@@ -52,8 +52,8 @@ pub struct NeighbourList {
     windows: Vec<Window>,
     /// The strip's width: the images' offsets ([`Entry::offset`]).
     width: f64,
-    /// Cell list in y (the strip is too narrow to bin in x): particle indices
-    /// sorted by bin, and where each bin starts.
+    /// Cell list ([`Grid`]): particle indices sorted by cell, and where
+    /// each cell starts.
     bin_start: Vec<u32>,
     bin_items: Vec<u32>,
     /// For each block a, the blocks b > a within the cutoff of it in y at the
@@ -351,27 +351,31 @@ impl NeighbourList {
         );
         self.width = width;
         self.find_near_blocks(y, cutoff, block);
-        let ymin = self.bin_by_y(y, cutoff);
+        let grid = self.bin_cells(x, y, width, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
-        let n_bins = bin_start.len() - 1;
         let cutoff2 = cutoff * cutoff;
 
-        // Visit every neighbour of i in the fixed order.
+        // Visit every neighbour of i: the particles of the cells within one
+        // cell of i's, through every image.
         let visit = |i: usize, f: &mut dyn FnMut(u32, i8, f64)| {
             let (xi, yi) = (x[i], y[i]);
-            let b = bin_of(yi, ymin, cutoff, n_bins);
-            for bin in b.saturating_sub(1)..(b + 2).min(n_bins) {
-                for &j in &bin_items[bin_start[bin] as usize..bin_start[bin + 1] as usize] {
-                    let dy = yi - y[j as usize];
-                    let dx0 = xi - x[j as usize];
-                    for shift in -1i8..=1 {
-                        if shift == 0 && j as usize == i {
-                            continue;
-                        }
-                        let dx = dx0 + f64::from(shift) * width;
-                        let r2 = dx * dx + dy * dy;
-                        if r2 <= cutoff2 {
-                            f(j, shift, r2);
+            let (by, bx) = grid.cell(xi, yi);
+            for row in by.saturating_sub(1)..(by + 2).min(grid.rows) {
+                for k in grid.columns_near(bx) {
+                    let cell = row * grid.columns + k;
+                    let items = &bin_items[bin_start[cell] as usize..bin_start[cell + 1] as usize];
+                    for &j in items {
+                        let dy = yi - y[j as usize];
+                        let dx0 = xi - x[j as usize];
+                        for shift in -1i8..=1 {
+                            if shift == 0 && j as usize == i {
+                                continue;
+                            }
+                            let dx = dx0 + f64::from(shift) * width;
+                            let r2 = dx * dx + dy * dy;
+                            if r2 <= cutoff2 {
+                                f(j, shift, r2);
+                            }
                         }
                     }
                 }
@@ -403,10 +407,13 @@ impl NeighbourList {
                         // mirrored ones; each nearest first: the kernels'
                         // piece tests then come in runs, which branch
                         // prediction follows, for as long as the list lives
-                        // (particles move less than the skin). Stable, so
-                        // ties keep the visiting order; r^2 >= 0 sorts as its
-                        // bits.
-                        found.sort_by_key(|e| (!is_own(i, e.1, e.2), e.0.to_bits()));
+                        // (particles move less than the skin). Ties by
+                        // index and image, so that the order does not
+                        // depend on the order of visiting; r^2 >= 0 sorts
+                        // as its bits.
+                        found.sort_unstable_by_key(|e| {
+                            (!is_own(i, e.1, e.2), e.0.to_bits(), e.1, e.2)
+                        });
                         for (slot, &(_, j, s)) in entries.iter_mut().zip(found.iter()) {
                             *slot = Entry::pack(j as usize, s);
                         }
@@ -602,36 +609,87 @@ impl NeighbourList {
         }
     }
 
-    /// Counting sort of the particles into bins of height `cutoff` in y;
-    /// returns the lowest y (the first bin's floor).
-    fn bin_by_y(&mut self, y: &[f64], cutoff: f64) -> f64 {
+    /// Counting sort of the particles into cells: rows of height `cutoff`
+    /// in y from the lowest particle and, when the strip is at least three
+    /// cutoffs wide, columns at least `cutoff` wide in x (periodic);
+    /// otherwise one column (a narrow strip: every image of every particle
+    /// in the rows near is tested). Within a cell, particles by index.
+    fn bin_cells(&mut self, x: &[f64], y: &[f64], width: f64, cutoff: f64) -> Grid {
         let ymin = y.iter().copied().fold(f64::INFINITY, f64::min);
         let ymax = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        // Bins of height `cutoff` from the lowest particle; no more bins than
+        // Rows of height `cutoff` from the lowest particle; no more rows than
         // particles (the last one takes the rest), and one for a span that is
         // not finite (a blown-up state, about to be reported).
         let span = ymax - ymin;
-        let n_bins = if span.is_finite() {
+        let rows = if span.is_finite() {
             (span / cutoff).floor().min(y.len() as f64) as usize + 1
         } else {
             1
         };
+        let fit = (width / cutoff).floor();
+        let columns = if fit >= 3.0 {
+            (fit as usize).min(y.len())
+        } else {
+            1
+        };
+        let grid = Grid {
+            ymin,
+            cutoff,
+            rows,
+            columns,
+            column_width: width / columns as f64,
+        };
+        let cells = rows * columns;
         self.bin_start.clear();
-        self.bin_start.resize(n_bins + 1, 0);
-        for &yi in y {
-            self.bin_start[bin_of(yi, ymin, cutoff, n_bins) + 1] += 1;
+        self.bin_start.resize(cells + 1, 0);
+        let cell_of = |i: usize| {
+            let (r, c) = grid.cell(x[i], y[i]);
+            r * columns + c
+        };
+        for i in 0..y.len() {
+            self.bin_start[cell_of(i) + 1] += 1;
         }
-        for b in 0..n_bins {
+        for b in 0..cells {
             self.bin_start[b + 1] += self.bin_start[b];
         }
         self.bin_items.resize(y.len(), 0);
         let mut fill = self.bin_start.clone();
-        for (i, &yi) in y.iter().enumerate() {
-            let b = bin_of(yi, ymin, cutoff, n_bins);
+        for i in 0..y.len() {
+            let b = cell_of(i);
             self.bin_items[fill[b] as usize] = i as u32;
             fill[b] += 1;
         }
-        ymin
+        grid
+    }
+}
+
+/// The cells of [`NeighbourList::bin_cells`].
+#[derive(Debug, Clone, Copy)]
+struct Grid {
+    ymin: f64,
+    cutoff: f64,
+    rows: usize,
+    columns: usize,
+    column_width: f64,
+}
+
+impl Grid {
+    /// The (row, column) of a particle at (x, y), x in [0, width) (a
+    /// position outside, or NaN, is put in the nearest cell).
+    #[inline]
+    fn cell(&self, x: f64, y: f64) -> (usize, usize) {
+        let row = (((y - self.ymin) / self.cutoff) as usize).min(self.rows - 1);
+        let column = ((x / self.column_width) as usize).min(self.columns - 1);
+        (row, column)
+    }
+
+    /// The columns within one of column `c`, periodic: all (one) of a
+    /// narrow strip, else `c - 1`, `c`, `c + 1` (three distinct columns).
+    #[inline]
+    fn columns_near(&self, c: usize) -> impl Iterator<Item = usize> {
+        let n = self.columns;
+        let (first, count) = if n == 1 { (0, 1) } else { (c + n - 1, 3) };
+        (0..count).map(move |k| (first + k) % n)
     }
 }
 
@@ -641,11 +699,6 @@ impl NeighbourList {
 fn is_own(i: usize, j: u32, shift: i8) -> bool {
     let j = j as usize;
     j > i || (j == i && shift == 1)
-}
-
-#[inline]
-fn bin_of(y: f64, ymin: f64, cutoff: f64, n_bins: usize) -> usize {
-    (((y - ymin) / cutoff) as usize).min(n_bins - 1)
 }
 
 #[cfg(test)]

@@ -23,6 +23,44 @@ mod lists {
         out
     }
 
+    /// A strip many cutoffs wide is binned in x too (periodic columns of
+    /// cells): the lists are still every pair within the cutoff, through
+    /// the right image, in the documented order (own first, then by r^2,
+    /// index and image), whatever the cells.
+    #[test]
+    fn a_wide_strip_binned_in_x_matches_brute_force() {
+        let mut l = Lattice::new(crate::kernel::Lattice::Square, 4, 1.0, 1.3, 2.0);
+        l.columns = 40;
+        l.width = 40.0;
+        let (mut x, mut y, _) = l.positions();
+        for i in 0..x.len() {
+            let s = (i as f64 * 12.9898).sin() * 43758.5453;
+            x[i] = (x[i] + 0.4 * (s - s.floor() - 0.5)).rem_euclid(l.width);
+            y[i] += 0.3 * ((i as f64 * 7.31).sin());
+        }
+        let cutoff = 3.0;
+        let mut list = NeighbourList::default();
+        list.build(&x, &y, l.width, cutoff, l.columns as usize);
+        for i in 0..x.len() {
+            let key = |e: u32| {
+                let j = Entry::index(e);
+                let dx = x[i] - x[j] + Entry::offset(e, l.width);
+                let dy = y[i] - y[j];
+                let own = j > i || (j == i && Entry::image(e) == 2);
+                (!own, (dx * dx + dy * dy).to_bits(), j, Entry::image(e))
+            };
+            let keys: Vec<_> = list.of(i).iter().map(|&e| key(e)).collect();
+            assert!(keys.is_sorted(), "particle {i}: the list's order");
+            let mut got: Vec<(u32, i8)> = list
+                .of(i)
+                .iter()
+                .map(|&e| (Entry::index(e) as u32, Entry::image(e) as i8 - 1))
+                .collect();
+            got.sort();
+            assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
+        }
+    }
+
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
         let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
