@@ -49,6 +49,9 @@
 #                   defaults "5 6 8 10 14 20" and "4 5 6 8 10 14 20 28")
 #   LADDER_COLUMNS_PER_LAYER  SPHinXsys's strip in the ladders (default 2:
 #                   a strip of 2 N columns, 1 DH long)
+#   VISCOUS         shearsph's viscous term: none (default, the paper's
+#                   Laplacian) or lattice (its correction of the lattice's
+#                   viscous deficit, as SPHinXsys corrects its gradients)
 #   LADDER=0        skip the ladders
 #   TARGETS         Linf/U targets for the time to accuracy
 #   PEERS_CACHE     build cache (default ~/.cache/shearsph-peers)
@@ -82,6 +85,7 @@ SHEARSPH_LAYERS=${SHEARSPH_LAYERS:-4 5 6 8 10 14 20 28}
 LADDER_COLUMNS_PER_LAYER=${LADDER_COLUMNS_PER_LAYER:-2}
 LADDER=${LADDER:-1}
 SHEARSPH=${SHEARSPH:-1}
+VISCOUS=${VISCOUS:-none}
 CACHE=${PEERS_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/shearsph-peers}
 NICE=${PEERS_NICE:-19}
 OUT=${OUT:-$ROOT/target/peers/sphinxsys-tau$TAU}
@@ -188,7 +192,8 @@ shearsph() {
   # allows: 6 columns for Wendland C2 at h = 1.3 d)
   local line cols=$3
   [ "$cols" -ge 6 ] || cols=6
-  line=$("$BIN" bench --sphinxsys-match --layers "$2" --tau "$TAU" --threads "$1" --columns "$cols")
+  line=$("$BIN" bench --sphinxsys-match --layers "$2" --tau "$TAU" --threads "$1" --columns "$cols" \
+      --viscous-normalisation "$VISCOUS")
   python3 - "$RE" "$C0_FACTOR" "$line" <<'PYEOF'
 import json, sys
 re_, c0f, run = float(sys.argv[1]), float(sys.argv[2]), json.loads(sys.argv[3])
@@ -249,7 +254,8 @@ differ by each code's rows and wall layers, printed per round), the ladders $LAD
 the half-width in particles on both sides (shearsph at least 6)
 SPHinXsys: $(basename "$SRC"), built with the stock Release flags${SPHINXSYS_CXX_FLAGS:+ plus $SPHINXSYS_CXX_FLAGS}; \
 steps are its acoustic steps (about 5 per advection step, which alone rebuilds the neighbour lists \
-and evaluates density, viscous force and transport correction)"
+and evaluates density, viscous force and transport correction)
+shearsph: the paper's WCSPH, one density and one force pass per step; viscous term: $VISCOUS"
 SUMMARY_ARGS=(--peer "$WORK/sphinxsys.jsonl" --load "$NOTE")
 [ -s "$WORK/shearsph.jsonl" ] && SUMMARY_ARGS+=(--ours "$WORK/shearsph.jsonl")
 [ -s "$WORK/ladder.jsonl" ] && SUMMARY_ARGS+=(--ladder "$WORK/ladder.jsonl" --csv "$OUT/ladder.csv")

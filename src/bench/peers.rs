@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use serde::Serialize;
 
 use super::measure;
-use crate::config::{Initial, Scene, WallVelocity};
+use crate::config::{Initial, Scene, ViscousNormalisation, WallVelocity};
 use crate::problem::Problem;
 
 /// shearsph on the scene matched to PySPH's stock example
@@ -16,6 +16,9 @@ pub struct PeerRun {
     pub code: String,
     /// The walls' velocity in the viscous term (`zero`: the paper's walls).
     pub wall_velocity: WallVelocity,
+    /// The viscous term's scale (`lattice`: divided by what it gives on the
+    /// perfect lattice for a quadratic velocity).
+    pub viscous_normalisation: ViscousNormalisation,
     /// Layers in the half-width (PySPH: 30 is the matched resolution).
     pub layers: u32,
     /// The discretisation ("square, h = 1 d").
@@ -138,8 +141,15 @@ pub fn pysph_match(
 /// U B / nu = 7.5, c0 = 10 U, no artificial viscosity (SPHinXsys's Riemann
 /// solvers have none), no-slip walls (`mirrored`), from rest, to
 /// t nu / B^2 = `tau`, on a strip of `columns` columns (default: the
-/// narrowest the kernel allows).
-pub fn sphinxsys_match_problem(layers: u32, tau: f64, columns: Option<u32>) -> Result<Problem> {
+/// narrowest the kernel allows), with the viscous term scaled by `viscous`
+/// (`lattice`: shearsph's correction of the lattice's viscous deficit, as
+/// SPHinXsys corrects its kernel gradients).
+pub fn sphinxsys_match_problem(
+    layers: u32,
+    tau: f64,
+    columns: Option<u32>,
+    viscous: ViscousNormalisation,
+) -> Result<Problem> {
     if !(tau > 0.0 && tau.is_finite()) {
         bail!("--tau {tau} must be a positive number (t nu / B^2)");
     }
@@ -154,6 +164,7 @@ pub fn sphinxsys_match_problem(layers: u32, tau: f64, columns: Option<u32>) -> R
         alpha: 0.0,
         initial: Initial::Rest,
         wall_velocity: WallVelocity::Mirrored,
+        viscous_normalisation: viscous,
         t_end: Some(1.0),
         ..Scene::builtin()
     };
@@ -197,8 +208,9 @@ pub fn sphinxsys_match(
     tau: f64,
     threads: usize,
     columns: Option<u32>,
+    viscous: ViscousNormalisation,
 ) -> Result<PeerRun> {
-    let problem = sphinxsys_match_problem(layers, tau, columns)?;
+    let problem = sphinxsys_match_problem(layers, tau, columns, viscous)?;
     let est = crate::problem::cost::Estimate::new(&problem.channel(), problem.c0, problem.t_end);
     let first = (est.steps as u64).max(1);
     let (probe, _) = measure(&problem, first, threads)?;
@@ -226,6 +238,7 @@ fn run_matched(
     Ok(PeerRun {
         code: code.into(),
         wall_velocity: problem.wall_velocity,
+        viscous_normalisation: problem.scene.viscous_normalisation,
         layers,
         discretisation: problem.discretisation.label(),
         re: problem.re,

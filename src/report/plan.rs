@@ -41,6 +41,30 @@ pub struct Config {
     pub figure4: Figure4Config,
 }
 
+/// A config written before the report ran perturbed and square lattices
+/// has no `[perturbed]` or `[square]`: it gets the default report's, every
+/// map Re perturbed (0.05 d, 3 seeds) and the square lattice at the
+/// empirical c0's Re. Left alone when `[maps]` or `[empirical]` is missing
+/// (the error then names those).
+fn fill_missing_lattices(table: &mut toml::Table) {
+    let re_of = |section: &str| table.get(section).and_then(|t| t.get("re")).cloned();
+    let (Some(maps_re), Some(empirical_re)) = (re_of("maps"), re_of("empirical")) else {
+        return;
+    };
+    table.entry("perturbed").or_insert_with(|| {
+        let mut t = toml::Table::new();
+        t.insert("jitter".into(), toml::Value::Float(0.05));
+        t.insert("seeds".into(), toml::Value::Integer(3));
+        t.insert("re".into(), maps_re);
+        toml::Value::Table(t)
+    });
+    table.entry("square").or_insert_with(|| {
+        let mut t = toml::Table::new();
+        t.insert("re".into(), empirical_re);
+        toml::Value::Table(t)
+    });
+}
+
 /// Perturbed starts: every map point (at `re`), every rule at the verdicts'
 /// Re and the empirical c0 also run from `seeds` starts jittered by
 /// `jitter` d; a point's perturbed outcome is its worst over the seeds.
@@ -100,8 +124,12 @@ pub struct Figure4Config {
 
 impl Config {
     pub fn parse(text: &str, origin: &str) -> Result<Config> {
-        let c: Config = toml::from_str(text)
+        let mut table: toml::Table = toml::from_str(text)
             .map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))?;
+        fill_missing_lattices(&mut table);
+        let c: Config = table
+            .try_into()
+            .map_err(|e: toml::de::Error| anyhow::anyhow!("{origin}: {}", e.message().trim()))?;
         c.check().with_context(|| origin.to_string())?;
         Ok(c)
     }
@@ -339,16 +367,11 @@ impl Disc {
         ))
     }
 
-    /// The rules run at the verdicts' Re: on the paper's discretisation
-    /// every rule (the first screen's picture), on the square one the
-    /// derived models and 10 U (the peers' rules cost the same there, and
-    /// 100 U ten times 10 U's steps: past the report's few minutes).
+    /// The rules run at the verdicts' Re: every rule, on either
+    /// discretisation (`table2`, the paper's printed row, on the paper's
+    /// only: [`all_rules_on`]).
     fn rules(self, info: &KernelInfo, on: &DiscretisationInfo) -> Vec<C0Rule> {
-        let all = all_rules_on(info, on);
-        match self {
-            Disc::Paper => all,
-            Disc::Square => all.into_iter().filter(is_verdict_rule).collect(),
-        }
+        all_rules_on(info, on)
     }
 }
 
@@ -410,12 +433,6 @@ impl Case {
             "perfect"
         }
     }
-}
-
-/// The verdict rules of the square discretisation: every derived model,
-/// `rule10` (and `table2`, the paper's discretisation only).
-fn is_verdict_rule(rule: &C0Rule) -> bool {
-    matches!(rule, C0Rule::Derived(_) | C0Rule::Rule10 | C0Rule::Table2)
 }
 
 /// A verdict rule in scene syntax: the default model as `derived`.
@@ -553,6 +570,34 @@ mod tests {
     use std::collections::BTreeSet;
 
     use super::*;
+
+    /// A config from before `[perturbed]` and `[square]` parses, with the
+    /// default report's choices; one that gives them keeps its own.
+    #[test]
+    fn a_config_without_the_lattice_sections_gets_the_defaults() {
+        let cut = |text: &str, section: &str| -> String {
+            let start = text.find(&format!("[{section}]")).expect(section);
+            let end = text[start + 1..]
+                .find("\n[")
+                .map_or(text.len(), |k| start + 1 + k);
+            format!("{}{}", &text[..start], &text[end..])
+        };
+        let old = cut(&cut(QUICK_CONFIG, "perturbed"), "square");
+        assert!(!old.contains("[perturbed]") && !old.contains("[square]"));
+        let c = Config::parse(&old, "old.toml").expect("an old config parses");
+        let q = Config::quick();
+        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 3));
+        assert_eq!(c.perturbed.re, q.maps.re);
+        assert_eq!(c.square.re, q.empirical.re);
+        assert_eq!(c.maps.re, q.maps.re);
+        // The sections given are kept.
+        let mine = format!("{old}\n[square]\nre = []\n");
+        assert!(Config::parse(&mine, "mine.toml")
+            .unwrap()
+            .square
+            .re
+            .is_empty());
+    }
 
     /// `square.re = []` runs no square lattice (as documented) and is
     /// accepted; a list that names some Re must cover empirical.re, as
