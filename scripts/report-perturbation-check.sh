@@ -5,7 +5,7 @@
 # 5 seeds, and prints each one's answer: which rules were sufficient and the
 # smallest c0 ok on every seed.
 #
-#   scripts/report-perturbation-check.sh [OUT_DIR]   (default out/perturbation-check)
+#   scripts/report-perturbation-check.sh [OUT_DIR]   (default out/perturbation-check; about 80 s)
 set -euo pipefail
 root=$(git rev-parse --show-toplevel)
 out=${1:-$root/out/perturbation-check}

@@ -8,9 +8,9 @@
 //! listed pair. Order within a list is fixed (by distance at the rebuild, ties
 //! by particle index and image), so every sum over it is the same whatever
 //! the thread count. For the force pass, each list is also cut into
-//! [`Window`]s, runs of LANES consecutive indices found through one image:
-//! the lattice keeps its rows in index order, so a neighbour row is one or
-//! two windows, loaded as contiguous vectors instead of gathered.
+//! [`Window`]s, runs of LANES consecutive indices (each lane with its own
+//! image): the lattice keeps its rows in index order, so a neighbour row is
+//! one or two windows, loaded as contiguous vectors instead of gathered.
 //!
 //! Rebuild rule: a pair not in the list was more than R h + skin apart; it
 //! can only have come within R h if the two displacements since the rebuild
@@ -129,31 +129,39 @@ impl Entry {
 }
 
 /// A piece of a list as LANES consecutive particle indices: the listed
-/// neighbours j in `start..start + LANES` found through one image, as bits
-/// of `mask` (bit l for j = start + l), and for each lane where its pair's
-/// (dW/dq)/q is in the pair table (the zero place for a lane not listed).
-/// The lattice keeps its rows in index order, so a row of i's neighbours is
-/// a few consecutive indices: the force pass loads a window's positions,
-/// velocities, pressures and volumes as contiguous vectors, and gathers only
-/// the kernel's values.
+/// neighbours j in `start..start + LANES`, as bits of the mask (bit l for
+/// j = start + l), each with the image it was found through, and for each
+/// lane where its pair's (dW/dq)/q is in the pair table (the zero place for
+/// a lane not listed). The lattice keeps its rows in index order, so a row
+/// of i's neighbours is a few consecutive indices (a whole row of a narrow
+/// strip, wrapped through two images, is one window too): the force pass
+/// loads a window's positions, velocities, pressures and volumes as
+/// contiguous vectors, and gathers only the kernel's values. A lane holds
+/// one entry: a particle listed through two images (a strip narrower than
+/// twice the cutoff with the skin) is in two windows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(C)]
 pub struct Window {
     pub start: u32,
-    /// The lanes listed (bits 0-7) and the image code (bits 8-9, as
-    /// [`Entry::image`]).
+    /// The lanes listed (bits 0-7) and each lane's image code (bits 8 + 2 l
+    /// and 9 + 2 l, as [`Entry::image`]).
     meta: u32,
     pub sources: [u32; LANES],
 }
 
 impl Window {
-    /// A window at `start` with the lanes `mask` (bits 0-7) listed through
-    /// the image code `image` (0 to 2, as [`Entry::image`]).
-    pub fn new(start: u32, mask: u8, image: u32, sources: [u32; LANES]) -> Window {
-        assert!(image <= 2, "image codes are 0, 1 and 2");
+    /// A window at `start` with the lanes `mask` (bits 0-7) listed, lane l
+    /// found through the image code `images[l]` (0 to 2, as
+    /// [`Entry::image`]).
+    pub fn new(start: u32, mask: u8, images: [u32; LANES], sources: [u32; LANES]) -> Window {
+        assert!(images.iter().all(|&c| c <= 2), "image codes are 0, 1 and 2");
+        let codes = images
+            .iter()
+            .enumerate()
+            .fold(0u32, |m, (l, &c)| m | c << (8 + 2 * l));
         Window {
             start,
-            meta: u32::from(mask) | image << 8,
+            meta: u32::from(mask) | codes,
             sources,
         }
     }
@@ -164,16 +172,16 @@ impl Window {
         self.meta & 0xff
     }
 
-    /// The x offset of the window's image, as [`Entry::offset`].
+    /// The image code (0 to 2) of lane l.
     #[inline(always)]
-    pub fn offset(&self, width: f64) -> f64 {
-        (f64::from(self.meta >> 8) - 1.0) * width
+    pub fn image(&self, l: usize) -> u32 {
+        (self.meta >> (8 + 2 * l)) & 3
     }
 
-    /// The image code (0 to 2).
+    /// The x offset of lane l's image, as [`Entry::offset`].
     #[inline(always)]
-    pub fn image(&self) -> usize {
-        (self.meta >> 8) as usize
+    pub fn offset(&self, l: usize, width: f64) -> f64 {
+        (f64::from(self.image(l)) - 1.0) * width
     }
 }
 
@@ -297,7 +305,7 @@ impl NeighbourList {
     }
 
     /// Particle i's list as windows of consecutive indices ([`Window`]),
-    /// in a fixed order (image, then index).
+    /// in a fixed order (by index).
     #[inline]
     pub fn windows(&self, i: usize) -> &[Window] {
         &self.windows[self.win_start[i] as usize..self.win_start[i + 1] as usize]
@@ -505,9 +513,9 @@ impl NeighbourList {
             });
     }
 
-    /// Cut every list into [`Window`]s: its entries ordered by image, then
-    /// index, each window starting at the first entry not yet in one and
-    /// taking every later entry of the same image below its start + LANES.
+    /// Cut every list into [`Window`]s: its entries ordered by index, each
+    /// window starting at the first entry not yet in one and taking every
+    /// later entry below its start + LANES, whatever its image.
     /// A window that would run past the last particle starts LANES before
     /// the end instead (its lanes shift with it), so every window's
     /// particles exist: a list needs at least LANES particles.
@@ -532,20 +540,25 @@ impl NeighbourList {
                     entries[base..base + c]
                         .iter()
                         .zip(&source[base..base + c])
-                        .map(|(&e, &src)| (Entry::image(e) as u32, Entry::index(e) as u32, src)),
+                        .map(|(&e, &src)| (Entry::index(e) as u32, Entry::image(e) as u32, src)),
                 );
                 slots.sort_unstable();
                 let mut out: Vec<Window> = Vec::new();
-                for &(image, j, src) in slots.iter() {
+                for &(j, image, src) in slots.iter() {
+                    // A lane holds one entry: j seen through two images (a
+                    // strip narrower than two cutoffs with the skin) takes
+                    // a second window.
                     let fits = out.last().is_some_and(|w: &Window| {
-                        w.image() as u32 == image && j < w.start + LANES as u32
+                        j < w.start + LANES as u32 && w.mask() & (1 << (j - w.start)) == 0
                     });
                     if !fits {
-                        out.push(Window::new(j.min(last_start), 0, image, [zero; LANES]));
+                        let start = j.min(last_start);
+                        out.push(Window::new(start, 0, [1; LANES], [zero; LANES]));
                     }
                     let w = out.last_mut().expect("a window was just pushed");
                     let lane = (j - w.start) as usize;
                     w.meta |= 1 << lane;
+                    w.meta = (w.meta & !(3 << (8 + 2 * lane))) | image << (8 + 2 * lane);
                     w.sources[lane] = src;
                 }
                 out

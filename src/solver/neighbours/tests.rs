@@ -23,6 +23,61 @@ mod lists {
         out
     }
 
+    /// The windows hold every entry once, at its index's lane, with its
+    /// image and its slot's source, and nothing else: a lane not listed
+    /// points at the zero place; every window lies inside the arrays.
+    fn check_windows(list: &NeighbourList, n: usize) {
+        for i in 0..n {
+            let mut want: Vec<(usize, usize, u32)> = list
+                .of(i)
+                .iter()
+                .zip(list.sources_padded(i))
+                .map(|(&e, &src)| (Entry::image(e), Entry::index(e), src))
+                .collect();
+            want.sort();
+            let mut got = Vec::new();
+            for w in list.windows(i) {
+                assert!(w.start as usize + LANES <= n, "particle {i}");
+                for l in 0..LANES {
+                    if w.mask() & (1 << l) != 0 {
+                        got.push((w.image(l) as usize, w.start as usize + l, w.sources[l]));
+                    } else {
+                        assert_eq!(w.sources[l] as usize, list.own_pairs());
+                    }
+                }
+            }
+            got.sort();
+            assert_eq!(got, want, "particle {i}");
+        }
+    }
+
+    /// A strip narrower than two cutoffs lists some neighbours through two
+    /// images: each is in two windows, and the lists are still complete.
+    #[test]
+    fn a_narrow_strip_lists_some_neighbours_twice() {
+        let l = Lattice::new(crate::kernel::Lattice::Square, 4, 1.0, 1.0, 2.0);
+        let (x, y, _) = l.positions();
+        let cutoff = 0.9 * l.width;
+        let mut list = NeighbourList::default();
+        list.build(&x, &y, l.width, cutoff, l.columns as usize);
+        let twice = (0..x.len()).any(|i| {
+            let mut js: Vec<usize> = list.of(i).iter().map(|&e| Entry::index(e)).collect();
+            js.sort();
+            js.windows(2).any(|p| p[0] == p[1])
+        });
+        assert!(twice, "some particle is listed through two images");
+        for i in 0..x.len() {
+            let mut got: Vec<(u32, i8)> = list
+                .of(i)
+                .iter()
+                .map(|&e| (Entry::index(e) as u32, Entry::image(e) as i8 - 1))
+                .collect();
+            got.sort();
+            assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
+        }
+        check_windows(&list, x.len());
+    }
+
     /// A strip many cutoffs wide is binned in x too (periodic columns of
     /// cells): the lists are still every pair within the cutoff, through
     /// the right image, in the documented order (own first, then by r^2,
@@ -59,6 +114,7 @@ mod lists {
             got.sort();
             assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
         }
+        check_windows(&list, x.len());
     }
 
     #[test]
@@ -124,31 +180,7 @@ mod lists {
                 }
             }
         }
-        // The windows hold every entry once, at its index's lane and with
-        // its slot's source, and nothing else: a lane not listed points at
-        // the zero place; every window lies inside the arrays.
-        for i in 0..x.len() {
-            let mut want: Vec<(usize, usize, u32)> = list
-                .of(i)
-                .iter()
-                .zip(list.sources_padded(i))
-                .map(|(&e, &src)| (Entry::image(e), Entry::index(e), src))
-                .collect();
-            want.sort();
-            let mut got = Vec::new();
-            for w in list.windows(i) {
-                assert!(w.start as usize + LANES <= x.len(), "particle {i}");
-                for l in 0..LANES {
-                    if w.mask() & (1 << l) != 0 {
-                        got.push((w.image(), w.start as usize + l, w.sources[l]));
-                    } else {
-                        assert_eq!(w.sources[l] as usize, list.own_pairs());
-                    }
-                }
-            }
-            got.sort();
-            assert_eq!(got, want, "particle {i}");
-        }
+        check_windows(&list, x.len());
         assert!(list.window_count() * 2 < list.pairs(), "rows come in runs");
     }
 }

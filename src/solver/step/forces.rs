@@ -131,8 +131,8 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
         let (vxw, vyw) = (lanes(vpx, start), lanes(vpy, start));
         let (pqw, volw) = (lanes(pq, start), lanes(vol, start));
         let depthw = if MIRROR { lanes(depth, start) } else { xw };
-        let offset = win.offset(width);
         for l in 0..LANES {
+            let offset = win.offset(l, width);
             let g = pair_g[win.sources[l].min(last_g) as usize];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
             let dx = xi - xw[l] + offset;
@@ -372,7 +372,8 @@ mod tests {
                 let start = if k == 5 { n as u32 - 8 } else { k * 31 % 150 };
                 let mask = [0xff, 0x5a, 0x01, 0x80, 0x3c, 0xe7][k as usize];
                 let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 41);
-                Window::new(start, mask, k % 3, src)
+                let images: [u32; 8] = std::array::from_fn(|l| (k + l as u32) % 3);
+                Window::new(start, mask, images, src)
             })
             .collect();
         let run = |isa: Isa| {
