@@ -229,9 +229,13 @@ impl Displacements {
         }
     }
 
-    /// Largest difference of two displacements in the box.
-    pub fn diagonal(&self) -> f64 {
-        (self.dx_max - self.dx_min).hypot(self.dy_max - self.dy_min)
+    /// Whether two displacements in the box can differ by more than
+    /// `skin`: its diagonal against `skin`, squared (no square root: the
+    /// rebuild test runs every step over every pair of near blocks).
+    #[inline]
+    pub fn wider_than(&self, skin: f64) -> bool {
+        let (w, h) = (self.dx_max - self.dx_min, self.dy_max - self.dy_min);
+        w * w + h * h > skin * skin
     }
 }
 
@@ -590,10 +594,10 @@ impl NeighbourList {
         }
         (0..n_blocks).any(|a| {
             let box_a = box_of(a);
-            box_a.diagonal() > skin
+            box_a.wider_than(skin)
                 || self.near[self.near_start[a] as usize..self.near_start[a + 1] as usize]
                     .iter()
-                    .any(|&b| box_a.union(box_of(b as usize)).diagonal() > skin)
+                    .any(|&b| box_a.union(box_of(b as usize)).wider_than(skin))
         })
     }
 
