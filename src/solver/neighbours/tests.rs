@@ -23,6 +23,40 @@ mod lists {
         out
     }
 
+    /// A deterministic jitter of up to `ax` / 2 in x and `ay` in y, then x
+    /// wrapped into the strip.
+    fn jitter(x: &mut [f64], y: &mut [f64], width: f64, ax: f64, ay: f64) {
+        for i in 0..x.len() {
+            let s = (i as f64 * 12.9898).sin() * 43758.5453;
+            x[i] = (x[i] + ax * (s - s.floor() - 0.5)).rem_euclid(width);
+            y[i] += ay * ((i as f64 * 7.31).sin());
+        }
+    }
+
+    /// Every list is brute force's, and its windows hold it.
+    fn check_lists(list: &NeighbourList, x: &[f64], y: &[f64], width: f64, cutoff: f64) {
+        for i in 0..x.len() {
+            assert_eq!(
+                listed(list, i),
+                brute(x, y, width, cutoff, i),
+                "particle {i}"
+            );
+        }
+        check_windows(list, x.len());
+    }
+
+    /// Particle i's list as (index, image shift), sorted: what [`brute`]
+    /// returns.
+    fn listed(list: &NeighbourList, i: usize) -> Vec<(u32, i8)> {
+        let mut got: Vec<(u32, i8)> = list
+            .of(i)
+            .iter()
+            .map(|&e| (Entry::index(e) as u32, Entry::image(e) as i8 - 1))
+            .collect();
+        got.sort();
+        got
+    }
+
     /// The windows hold every entry once, at its index's lane, with its
     /// image and its slot's source, and nothing else: a lane not listed
     /// points at the zero place; every window lies inside the arrays.
@@ -66,16 +100,7 @@ mod lists {
             js.windows(2).any(|p| p[0] == p[1])
         });
         assert!(twice, "some particle is listed through two images");
-        for i in 0..x.len() {
-            let mut got: Vec<(u32, i8)> = list
-                .of(i)
-                .iter()
-                .map(|&e| (Entry::index(e) as u32, Entry::image(e) as i8 - 1))
-                .collect();
-            got.sort();
-            assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
-        }
-        check_windows(&list, x.len());
+        check_lists(&list, &x, &y, l.width, cutoff);
     }
 
     /// A strip many cutoffs wide is binned in x too (periodic columns of
@@ -88,11 +113,7 @@ mod lists {
         l.columns = 40;
         l.width = 40.0;
         let (mut x, mut y, _) = l.positions();
-        for i in 0..x.len() {
-            let s = (i as f64 * 12.9898).sin() * 43758.5453;
-            x[i] = (x[i] + 0.4 * (s - s.floor() - 0.5)).rem_euclid(l.width);
-            y[i] += 0.3 * ((i as f64 * 7.31).sin());
-        }
+        jitter(&mut x, &mut y, l.width, 0.4, 0.3);
         let cutoff = 3.0;
         let mut list = NeighbourList::default();
         list.build(&x, &y, l.width, cutoff, l.columns as usize);
@@ -106,27 +127,15 @@ mod lists {
             };
             let keys: Vec<_> = list.of(i).iter().map(|&e| key(e)).collect();
             assert!(keys.is_sorted(), "particle {i}: the list's order");
-            let mut got: Vec<(u32, i8)> = list
-                .of(i)
-                .iter()
-                .map(|&e| (Entry::index(e) as u32, Entry::image(e) as i8 - 1))
-                .collect();
-            got.sort();
-            assert_eq!(got, brute(&x, &y, l.width, cutoff, i), "particle {i}");
         }
-        check_windows(&list, x.len());
+        check_lists(&list, &x, &y, l.width, cutoff);
     }
 
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
         let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
         let (mut x, mut y, _) = l.positions();
-        // Deterministic jitter, then wrap x into the strip.
-        for i in 0..x.len() {
-            let s = (i as f64 * 12.9898).sin() * 43758.5453;
-            x[i] = (x[i] + 0.3 * (s - s.floor() - 0.5)).rem_euclid(l.width);
-            y[i] += 0.2 * ((i as f64 * 7.31).sin());
-        }
+        jitter(&mut x, &mut y, l.width, 0.3, 0.2);
         let cutoff = 2.3;
         let mut list = NeighbourList::default();
         list.build(&x, &y, l.width, cutoff, l.columns as usize);
