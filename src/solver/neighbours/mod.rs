@@ -247,13 +247,6 @@ impl NeighbourList {
         &self.entries[start..start + self.count[i] as usize]
     }
 
-    /// The same, padded with [`Entry::padding`] to whole groups of [`LANES`].
-    #[inline]
-    pub fn of_padded(&self, i: usize) -> &[u32] {
-        let start = i * self.stride;
-        &self.entries[start..start + padded(self.count[i] as usize)]
-    }
-
     /// The width of the strip the list was built for: with
     /// [`Entry::offset`], the x offset to add to x_i - x_j.
     #[inline]

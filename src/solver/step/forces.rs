@@ -97,9 +97,11 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
 /// loop over its windows ([`Window`]), each window's particle values loaded
 /// as contiguous vectors and only its (dW/dq)/q gathered, each lane's term
-/// added into its lane's accumulator when the lane is listed (a select: a
-/// lane not listed adds nothing, whatever its values), without branches or
-/// bounds checks in the lanes.
+/// added into its lane's accumulator, without branches or bounds checks in
+/// the lanes. A lane not listed reads the pair table's zero place, g = 0,
+/// and adds 0: its terms are finite for a finite state (the artificial
+/// viscosity's r^2 has a floor). A state that is not finite fails the run
+/// at this step anyway ([`Forces::finite`]).
 #[inline(always)]
 pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -> (f64, f64) {
     let ForceArgs {
