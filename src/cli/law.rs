@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -40,15 +40,13 @@ pub struct LawArgs {
 }
 
 pub fn main(args: LawArgs) -> Result<ExitCode> {
-    let mut config = match (&args.config, args.quick) {
-        (Some(path), _) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            Config::parse(&text, &path.display().to_string())?
-        }
-        (None, true) => Config::quick(),
-        (None, false) => Config::default_full(),
-    };
+    let mut config = super::load_config(
+        args.config.as_deref(),
+        args.quick,
+        Config::parse,
+        Config::quick,
+        Config::default_full,
+    )?;
     if !args.kernel.is_empty() {
         config.kernels = args.kernel.clone();
     }

@@ -191,6 +191,27 @@ impl SceneArgs {
 }
 
 /// Print an error with its causes and give the exit code for it.
+/// The config of a command that embeds two (`report`, `law`): the file
+/// `--config` names, else the quick one with `--quick`, else the full one.
+pub(crate) fn load_config<C>(
+    path: Option<&std::path::Path>,
+    quick: bool,
+    parse: fn(&str, &str) -> Result<C>,
+    quick_config: fn() -> C,
+    full_config: fn() -> C,
+) -> Result<C> {
+    use anyhow::Context;
+    match (path, quick) {
+        (Some(path), _) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            parse(&text, &path.display().to_string())
+        }
+        (None, true) => Ok(quick_config()),
+        (None, false) => Ok(full_config()),
+    }
+}
+
 pub fn report(result: Result<ExitCode>) -> ExitCode {
     match result {
         Ok(code) => code,

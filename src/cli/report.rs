@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 
 use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
@@ -42,15 +42,13 @@ pub struct ReportArgs {
 }
 
 pub fn main(args: ReportArgs) -> Result<ExitCode> {
-    let config = match (&args.config, args.quick) {
-        (Some(path), _) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            Config::parse(&text, &path.display().to_string())?
-        }
-        (None, true) => Config::quick(),
-        (None, false) => Config::default_full(),
-    };
+    let config = super::load_config(
+        args.config.as_deref(),
+        args.quick,
+        Config::parse,
+        Config::quick,
+        Config::default_full,
+    )?;
     let stop = stop_on_ctrl_c_saying(
         "stopping the report's scenes; the report keeps only files already complete",
     )?;

@@ -133,8 +133,10 @@ impl Entry {
 /// j = start + l), each with the image it was found through, and for each
 /// lane where its pair's (dW/dq)/q is in the pair table (the zero place for
 /// a lane not listed). The lattice keeps its rows in index order, so a row
-/// of i's neighbours is a few consecutive indices (a whole row of a narrow
-/// strip, wrapped through two images, is one window too): the force pass
+/// of i's neighbours is a few consecutive indices: one window, or two where
+/// it holds more than LANES or crosses the strip's edge on a wide strip (a
+/// whole row of a narrow strip, wrapped through two images, is one): the
+/// force pass
 /// loads a window's positions, velocities, pressures and volumes as
 /// contiguous vectors, and gathers only the kernel's values. A lane holds
 /// one entry: a particle listed through two images (a strip narrower than
