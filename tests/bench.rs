@@ -81,9 +81,25 @@ fn bench_json_has_every_figure() {
             "fraction_of_peak_in_use",
             "fraction_of_peak_best",
             "bytes_per_particle",
+            "kernel_pass_ns",
+            "kernel_alone_ns",
+            "forces_ns_per_lane",
+            "forces_lane_bound_ns",
+            "lane_use",
         ] {
             positive(row, key);
         }
+        // the passes one by one: each timed, together within the steps
+        let shares: Vec<f64> = row["pass_share"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(shares.len(), 3, "{row}");
+        assert!(shares.iter().all(|&s| s > 0.0), "{row}");
+        assert!(shares.iter().sum::<f64>() <= 1.0, "{row}");
+        assert!(row["lane_use"].as_f64().unwrap() <= 1.0, "{row}");
         assert!(row["flops_per_pair"].as_f64().unwrap() > 0.0);
         // the listed pairs include the skin's
         assert!(
@@ -118,6 +134,7 @@ fn bench_table_names_the_peak() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("flops/cycle"), "{text}");
     assert!(text.contains("composite"), "{text}");
+    assert!(text.contains("pass by pass"), "{text}");
 }
 
 #[test]

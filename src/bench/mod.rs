@@ -190,6 +190,24 @@ pub struct Row {
     pub bytes_per_pair: f64,
     pub flops_per_byte: f64,
     pub roofline_gflops: f64,
+    /// The pair passes one by one (the last repeat's, timed inside the
+    /// solver): each one's share of the steps' time, in turn the kernel
+    /// pass, the density sums and the force pass.
+    pub pass_share: [f64; 3],
+    /// The kernel pass's core-nanoseconds per pair evaluated (its wall time
+    /// x the cores used / own pairs), and the kernel alone in lanes on one
+    /// core with its values in the first-level cache
+    /// ([`solver::kernel_alone_ns`]): a ratio near 1 is a pass bound by the
+    /// kernel's own arithmetic (its square root and division per pair), not
+    /// by memory.
+    pub kernel_pass_ns: f64,
+    pub kernel_alone_ns: f64,
+    /// The force pass's core-nanoseconds per lane it runs (LANES per
+    /// window, listed or not), the bound its flops per lane set at the peak
+    /// in use (one core), and the share of its lanes that are listed pairs.
+    pub forces_ns_per_lane: f64,
+    pub forces_lane_bound_ns: f64,
+    pub lane_use: f64,
     /// Particle arrays and neighbour structure, per particle.
     pub bytes_per_particle: f64,
     pub arrays_bytes: usize,
@@ -230,6 +248,16 @@ pub fn vm_hwm_bytes() -> Option<u64> {
 struct Steps<'a> {
     problem: &'a Problem,
     steps: u64,
+}
+
+/// The kernel alone ([`solver::kernel_alone_ns`]).
+struct KernelAlone;
+
+impl KernelVisitor for KernelAlone {
+    type Output = f64;
+    fn visit<K: Kernel>(self) -> f64 {
+        solver::kernel_alone_ns::<K>()
+    }
 }
 
 impl KernelVisitor for Steps<'_> {
@@ -292,6 +320,9 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
     for kernel in &opts.kernels {
         let base = scene(kernel);
         let info = base.kernel_info()?;
+        // Once per kernel, on this thread, before its runs.
+        let kernel_alone_ns = kernels::with_kernel(kernel, KernelAlone)
+            .with_context(|| format!("unknown kernel {kernel}"))?;
         for &target in &opts.particles {
             let mut s = base.clone();
             s.n_layers = layers_for(&s, target)?;
@@ -323,6 +354,11 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                 let pair_loop_gflops = gflops / pair_loop_share;
                 let bytes_per_pair = r.pass_bytes_per_step / r.pairs_per_step;
                 let flops_per_byte = flops / bytes_per_pair;
+                let cores_used = threads.min(machine.cores) as f64;
+                let core_ns_per = |pass: usize, per_step: usize| {
+                    r.pass_s[pass] * cores_used / (per_step as f64 * taken) * 1e9
+                };
+                let force_flops = f64::from(solver::force_flops_per_pair(&problem));
                 rows.push(Row {
                     kernel: kernel.clone(),
                     target_particles: target,
@@ -355,6 +391,13 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     // With the bandwidth, measured after every run (its
                     // arrays would count in the runs' peak memory).
                     roofline_gflops: f64::NAN,
+                    pass_share: r.pass_s.map(|p| p / r.wall_s),
+                    kernel_pass_ns: core_ns_per(0, r.own_pairs),
+                    kernel_alone_ns,
+                    forces_ns_per_lane: core_ns_per(2, r.fluid_window_lanes),
+                    forces_lane_bound_ns: force_flops
+                        / (machine.flops_per_cycle_in_use * machine.ghz),
+                    lane_use: r.fluid_listed_lanes as f64 / r.fluid_window_lanes as f64,
                     bytes_per_particle: r.bytes as f64 / particles as f64,
                     arrays_bytes: r.bytes,
                     vm_hwm_bytes: vm_hwm_bytes(),

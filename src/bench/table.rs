@@ -100,6 +100,48 @@ pub fn table(r: &Report) -> String {
             100.0 * row.pair_loop_gflops / row.roofline_gflops,
         ));
     }
+    out.push_str(
+        "\npass by pass (timed inside the solver, the last repeat): each pass's share of the step; \
+         the kernel\npass's core-ns per pair evaluated against the kernel alone in lanes with its \
+         values in the first-level\ncache (ratio near 1: bound by the kernel's own square root and \
+         division, not by memory); the force\npass's core-ns per lane run against the bound its flops \
+         set at the peak in use, and its lanes' share\nthat are listed pairs:\n",
+    );
+    out.push_str(&format!(
+        "{:<10} {:>8} {:>3} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>7} {:>7} {:>5} {:>6}\n",
+        "kernel",
+        "particles",
+        "thr",
+        "kern%",
+        "sums%",
+        "forc%",
+        "kern ns",
+        "alone",
+        "x",
+        "ns/lane",
+        "bound",
+        "x",
+        "lanes%"
+    ));
+    for row in &r.rows {
+        let [kern, sums, forc] = row.pass_share;
+        out.push_str(&format!(
+            "{:<10} {:>8} {:>3} {:>6.1} {:>6.1} {:>6.1} {:>7.2} {:>7.2} {:>5.2} {:>7.3} {:>7.3} {:>5.2} {:>6.1}\n",
+            row.kernel,
+            row.particles,
+            row.threads,
+            100.0 * kern,
+            100.0 * sums,
+            100.0 * forc,
+            row.kernel_pass_ns,
+            row.kernel_alone_ns,
+            row.kernel_pass_ns / row.kernel_alone_ns,
+            row.forces_ns_per_lane,
+            row.forces_lane_bound_ns,
+            row.forces_ns_per_lane / row.forces_lane_bound_ns,
+            100.0 * row.lane_use,
+        ));
+    }
     if !r.scaling.is_empty() {
         out.push_str("\ncost per step ~ particles^k (least squares over the counts above):\n");
         for s in &r.scaling {

@@ -48,8 +48,9 @@ pub fn flops_per_pair(kernel_flops: u32, problem: &Problem) -> f64 {
         + f64::from(step::DENSITY_SUM_FLOPS + force_flops_per_pair(problem))
 }
 
-/// The force pass's floating-point operations per directed pair.
-fn force_flops_per_pair(problem: &Problem) -> u32 {
+/// The force pass's floating-point operations per directed pair (per lane
+/// it runs, listed or not).
+pub fn force_flops_per_pair(problem: &Problem) -> u32 {
     let av = if problem.has_artificial_viscosity() {
         step::FORCE_PAIR_FLOPS_AV
     } else {
@@ -61,6 +62,13 @@ fn force_flops_per_pair(problem: &Problem) -> u32 {
         0
     };
     av + mirror
+}
+
+/// Nanoseconds per evaluation of kernel `K`'s (W, (dW/dq)/q) alone on one
+/// core, in lanes as the kernel pass runs it, its values in the first-level
+/// cache: the kernel pass's compute roof (`shearsph bench`).
+pub fn kernel_alone_ns<K: Kernel>() -> f64 {
+    step::kernel_alone_ns::<K>()
 }
 
 /// The vector instructions the pair loops run with on this CPU (chosen at
@@ -116,8 +124,9 @@ struct Sim<'p> {
     cutoff: f64,
     forces: Forces,
     max_eps: f64,
-    /// Seconds spent in the pair passes (density and forces) so far.
-    pair_loop_s: f64,
+    /// Seconds spent in the pair passes so far: the kernel pass, the
+    /// density sums, the force pass.
+    pass_s: [f64; 3],
 }
 
 /// What one step found that may end the run.
@@ -152,7 +161,7 @@ impl<'p> Sim<'p> {
             cutoff,
             forces,
             max_eps,
-            pair_loop_s: 0.0,
+            pass_s: [0.0; 3],
         }
     }
 
@@ -183,10 +192,20 @@ impl<'p> Sim<'p> {
             self.list
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
         }
-        let passes = Instant::now();
-        self.max_eps = step::density::<K>(&mut self.s, &self.list, &self.prm);
+        let start = Instant::now();
+        step::kernel_pass::<K>(&mut self.s, &self.list, &self.prm);
+        let kernel = Instant::now();
+        self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.prm);
+        let sums = Instant::now();
         self.forces = step::forces(&mut self.s, &self.list, &self.prm, 0.5 * dt);
-        self.pair_loop_s += passes.elapsed().as_secs_f64();
+        let end = Instant::now();
+        for (acc, (a, b)) in
+            self.pass_s
+                .iter_mut()
+                .zip([(start, kernel), (kernel, sums), (sums, end)])
+        {
+            *acc += (b - a).as_secs_f64();
+        }
         StepCheck { max_abs_y }
     }
 
@@ -459,6 +478,17 @@ pub struct StepsRun {
     /// and forces), and the bytes they move per step at the least (every
     /// array they touch once, at the end; see `Sim::pass_bytes`).
     pub pair_loop_s: f64,
+    /// Those seconds pass by pass: the kernel pass (W and (dW/dq)/q of the
+    /// own pairs), the density sums (W gathered per slot, the EOS), the
+    /// force pass.
+    pub pass_s: [f64; 3],
+    /// At the end: the pairs the kernel pass evaluates per step (each once
+    /// for both directions), and the lanes the force pass runs per step
+    /// (LANES per window of the fluid's, listed or not).
+    pub own_pairs: usize,
+    pub fluid_window_lanes: usize,
+    /// Of those lanes, the listed ones.
+    pub fluid_listed_lanes: usize,
     pub pass_bytes_per_step: f64,
     pub outcome: Outcome,
     /// Diagnostics after the last step (against the start-up series when
@@ -477,7 +507,7 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
     let mut sim = Sim::new::<K>(problem);
     let pairs_first = sim.pairs_in_support::<K>();
     let rebuilds_first = sim.list.rebuilds;
-    sim.pair_loop_s = 0.0;
+    sim.pass_s = [0.0; 3];
     let mut t = 0.0;
     let mut taken = 0;
     let mut dt = 0.0;
@@ -510,7 +540,17 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
         listed_pairs: sim.list.pairs(),
         neighbour_rebuilds: sim.list.rebuilds - rebuilds_first,
         bytes: sim.bytes(),
-        pair_loop_s: sim.pair_loop_s,
+        pair_loop_s: sim.pass_s.iter().sum(),
+        pass_s: sim.pass_s,
+        own_pairs: sim.list.own_pairs(),
+        fluid_window_lanes: (0..sim.s.n_fluid)
+            .map(|i| sim.list.windows(i).len())
+            .sum::<usize>()
+            * neighbours::LANES,
+        fluid_listed_lanes: (0..sim.s.n_fluid)
+            .flat_map(|i| sim.list.windows(i))
+            .map(|w| w.mask().count_ones() as usize)
+            .sum(),
         pass_bytes_per_step: sim.pass_bytes(),
         outcome,
         last: sim.sample(t, taken, dt),

@@ -68,11 +68,12 @@ pub(super) fn pair_kernel<K: Kernel>(
 pub(super) fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
     let n = pair_w.len();
     assert!(n > 0);
-    let last = n - 1;
+    // Clamped in 32 bits, as the force pass's: a vector gather.
+    let last = u32::try_from(n - 1).expect("slots fit in u32");
     let mut acc = [0.0; LANES];
     for src in sources.chunks_exact(LANES) {
         for l in 0..LANES {
-            acc[l] += pair_w[(src[l] as usize).min(last)];
+            acc[l] += pair_w[src[l].min(last) as usize];
         }
     }
     lane_sum(acc)
@@ -87,17 +88,14 @@ pub(super) fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
 /// slots, each taken from where it was evaluated, and the (dW/dq)/q of
 /// every slot kept for [`super::forces::forces`].
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
-    density_with::<K>(s, list, prm, Isa::detect())
+    kernel_pass::<K>(s, list, prm);
+    density_sums::<K>(s, list, prm)
 }
 
-pub(super) fn density_with<K: Kernel>(
-    s: &mut State,
-    list: &NeighbourList,
-    prm: &Params,
-    isa: Isa,
-) -> f64 {
-    let n = s.x.len();
-    let nf = s.n_fluid;
+/// The first half of [`density`], timed apart by the solver: W and
+/// (dW/dq)/q of every own pair into the pair table.
+pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) {
+    let isa = Isa::detect();
     // The pair table and after it a place kept at zero that padding reads:
     // resized when a rebuild changed the number of own pairs.
     let pairs = list.own_pairs();
@@ -108,14 +106,8 @@ pub(super) fn density_with<K: Kernel>(
         s.pair_w[pairs] = 0.0;
         s.pair_g[pairs] = 0.0;
     }
-    let inp = DensityIn {
-        x: &s.x[..n],
-        y: &s.y[..n],
-        list,
-        width: list.width(),
-        prm,
-        nf,
-    };
+    let n = s.x.len();
+    let inp = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, prm);
     let (entries, owners) = list.own_stream();
     (
         s.pair_w[..pairs].par_chunks_mut(STREAM_CHUNK),
@@ -125,6 +117,19 @@ pub(super) fn density_with<K: Kernel>(
     )
         .into_par_iter()
         .for_each(|(w, g, e, o)| kernel_chunk_on::<K>(isa, (w, g), e, o, &inp));
+}
+
+/// The second half of [`density`]: the sums of W from the pair table and
+/// the EOS; the largest fluid compaction.
+pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
+    let isa = Isa::detect();
+    let n = s.x.len();
+    assert_eq!(
+        s.pair_slots,
+        list.own_pairs(),
+        "the kernel pass ran on this list"
+    );
+    let inp = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, prm);
     let pair_w = &s.pair_w[..];
     (
         s.rho.par_chunks_mut(CHUNK),
@@ -146,6 +151,25 @@ pub(super) struct DensityIn<'a> {
     width: f64,
     prm: &'a Params,
     nf: usize,
+}
+
+impl<'a> DensityIn<'a> {
+    /// From the positions `xs` (every particle's), the fluid's count `nf`.
+    fn new(
+        xs: (&'a [f64], &'a [f64]),
+        nf: usize,
+        list: &'a NeighbourList,
+        prm: &'a Params,
+    ) -> DensityIn<'a> {
+        DensityIn {
+            x: xs.0,
+            y: xs.1,
+            list,
+            width: list.width(),
+            prm,
+            nf,
+        }
+    }
 }
 
 /// Pairs per task of the kernel pass: a few hundred particles' own pairs,
@@ -179,7 +203,11 @@ pub(super) fn kernel_chunk<K: Kernel>(
 pub(super) type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
 /// Density and EOS for the particles of task `c`, from the kernel pass's
-/// `pair_w`; returns their largest fluid compaction.
+/// `pair_w`; returns their largest fluid compaction. Two loops over the
+/// task's particles: the sums, then the EOS (its divisions in lanes, the
+/// EOS's form chosen once for the loop, not per particle: a branch the
+/// compiler would otherwise turn into a power for every lane), each
+/// particle's operations as one loop doing both would do them.
 #[inline(always)]
 pub(super) fn density_chunk<K: Kernel>(
     c: usize,
@@ -190,22 +218,42 @@ pub(super) fn density_chunk<K: Kernel>(
     let (rho, press, vol, p_rho2) = out;
     let prm = inp.prm;
     let w_self = K::w(0.0);
-    let mut max_eps = f64::NEG_INFINITY;
-    for k in 0..rho.len() {
-        let i = c * CHUNK + k;
-        let pairs = pair_gather(inp.list.sources_padded(i), pair_w);
+    let base = c * CHUNK;
+    let m = rho.len();
+    assert!(press.len() == m && vol.len() == m && p_rho2.len() == m);
+    for (k, r) in rho.iter_mut().enumerate() {
+        let pairs = pair_gather(inp.list.sources_padded(base + k), pair_w);
         let sum = w_self + pairs;
-        let r = prm.mass_over_h2 * sum;
-        let p = prm.pressure(r);
-        rho[k] = r;
-        press[k] = p;
-        vol[k] = prm.mass / r;
-        p_rho2[k] = p / (r * r);
-        if i < inp.nf {
-            max_eps = max_eps.max(r / prm.rho0 - 1.0);
-        }
+        *r = prm.mass_over_h2 * sum;
     }
-    max_eps
+    if prm.gamma == 1.0 {
+        eos(prm, rho, (press, vol, p_rho2), |ratio| ratio - 1.0);
+    } else {
+        eos(prm, rho, (press, vol, p_rho2), |ratio| {
+            ratio.powf(prm.gamma) - 1.0
+        });
+    }
+    let fluid = inp.nf.saturating_sub(base).min(m);
+    rho[..fluid]
+        .iter()
+        .fold(f64::NEG_INFINITY, |e, &r| e.max(r / prm.rho0 - 1.0))
+}
+
+/// The EOS (13) over a task's densities, its compression (rho/rho0)^gamma
+/// - 1 from `compression`: P, m/rho and P/rho^2.
+#[inline(always)]
+fn eos(
+    prm: &Params,
+    rho: &[f64],
+    (press, vol, p_rho2): (&mut [f64], &mut [f64], &mut [f64]),
+    compression: impl Fn(f64) -> f64,
+) {
+    for (((&r, p_out), v), q) in rho.iter().zip(press).zip(vol).zip(p_rho2) {
+        let p = prm.pressure_of(compression(r / prm.rho0));
+        *p_out = p;
+        *v = prm.mass / r;
+        *q = p / (r * r);
+    }
 }
 
 on_isa! {
@@ -226,6 +274,51 @@ on_isa! {
         inp: &DensityIn,
         pair_w: &[f64]
     ) -> f64
+}
+
+/// W and (dW/dq)/q of every `q2` into `out`: the kernel's arithmetic
+/// alone, as the kernel pass runs it in lanes but without the pair table.
+#[inline(always)]
+pub(super) fn kernel_only<K: Kernel>(q2: &[f64], out: (&mut [f64], &mut [f64])) {
+    for ((&q2, w), g) in q2.iter().zip(out.0.iter_mut()).zip(out.1.iter_mut()) {
+        (*w, *g) = K::w_dw_over_q_lanes(q2);
+    }
+}
+
+on_isa! {
+    /// [`kernel_only`] compiled for the instruction set `isa`.
+    pub(super) fn kernel_only_on[K: Kernel] => kernel_only[K](
+        q2: &[f64],
+        out: (&mut [f64], &mut [f64])
+    )
+}
+
+/// Nanoseconds per evaluation of the kernel alone on one core: the
+/// kernel pass's compute roof. Every piece's constants are selected in
+/// lanes, so the cost does not depend on q; the values run over the support
+/// as pairs do (q^2 uniform in [0, R^2], as the area is), 1024 of them and
+/// their results in the first-level cache. The best of 5 timings of a
+/// loop of about 5 ms.
+pub(crate) fn kernel_alone_ns<K: Kernel>() -> f64 {
+    const N: usize = 1024;
+    let isa = Isa::detect();
+    let q2: Vec<f64> = (0..N)
+        .map(|k| (k as f64 + 0.5) / N as f64 * K::SUPPORT2_CLOSED)
+        .collect();
+    let (mut w, mut g) = (vec![0.0; N], vec![0.0; N]);
+    let mut time = |rounds: usize| {
+        let start = std::time::Instant::now();
+        for _ in 0..rounds {
+            kernel_only_on::<K>(isa, std::hint::black_box(&q2[..]), (&mut w[..], &mut g[..]));
+            std::hint::black_box((&w, &g));
+        }
+        start.elapsed().as_secs_f64()
+    };
+    // Rounds for about 5 ms, from a first timing of 16.
+    let first = time(16).max(1e-9);
+    let rounds = ((5e-3 / first * 16.0) as usize).clamp(16, 1 << 20);
+    let best = (0..5).map(|_| time(rounds)).fold(f64::INFINITY, f64::min);
+    best / (rounds * N) as f64 * 1e9
 }
 
 on_isa! {

@@ -262,7 +262,11 @@ pub(super) struct ForcesIn<'a> {
 /// One task's outputs: ax, ay, vx, vy.
 pub(super) type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
-/// Accelerations and the closing kick for the fluid particles of task `c`.
+/// Accelerations and the closing kick for the fluid particles of task `c`,
+/// in three loops over the task's particles: their per-particle factors
+/// (two divisions each, in lanes), their pair sums, then the accelerations,
+/// the kick and the checks (in lanes again). Each particle's operations are
+/// those of one loop doing all three, in the same order: the same bits.
 #[inline(always)]
 pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     c: usize,
@@ -271,27 +275,36 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
 ) -> Forces {
     let (ax, ay, vx, vy) = out;
     let prm = inp.prm;
-    let mut seen = Forces::NONE;
-    for k in 0..ax.len() {
-        let i = c * CHUNK + k;
-        let windows = inp.list.windows(i);
-        let inv_rho = 1.0 / inp.rho[i];
+    let base = c * CHUNK;
+    let m = ax.len();
+    assert!(m <= CHUNK && ay.len() == m && vx.len() == m && vy.len() == m);
+    let (rho, y) = (&inp.rho[base..base + m], &inp.y[base..base + m]);
+    let mut inv_rho = [0.0; CHUNK];
+    let mut inv_gap = [0.0; CHUNK];
+    for k in 0..m {
+        inv_rho[k] = 1.0 / rho[k];
+        // Capped by beta_max anyway: a particle at the plane is no
+        // division by zero.
+        inv_gap[k] = 1.0 / (prm.b - y[k].abs()).max(f64::MIN_POSITIVE);
+    }
+    let mut sum_x = [0.0; CHUNK];
+    let mut sum_y = [0.0; CHUNK];
+    for k in 0..m {
+        let i = base + k;
         let sc = Scales {
             pressure: if SYMMETRIC {
                 prm.mass
             } else {
-                prm.mass * inv_rho * inv_rho
+                prm.mass * inv_rho[k] * inv_rho[k]
             },
-            av: prm.av * inv_rho,
-            visc: prm.visc * inv_rho,
-            // Capped by beta_max anyway: a particle at the plane is no
-            // division by zero.
-            inv_gap: 1.0 / (prm.b - inp.y[i].abs()).max(f64::MIN_POSITIVE),
+            av: prm.av * inv_rho[k],
+            visc: prm.visc * inv_rho[k],
+            inv_gap: inv_gap[k],
             beta_max: prm.beta_max,
         };
         let args = ForceArgs {
             i,
-            windows,
+            windows: inp.list.windows(i),
             pair_g: inp.pair_g,
             xs: (inp.x, inp.y),
             vs: (inp.vpx, inp.vpy),
@@ -301,21 +314,28 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
             width: inp.width,
             sc,
         };
-        let (fx, fy) = pair_forces::<AV, MIRROR>(args);
-        let axi = prm.grad_scale * fx + prm.body;
-        let ayi = prm.grad_scale * fy;
+        (sum_x[k], sum_y[k]) = pair_forces::<AV, MIRROR>(args);
+    }
+    let mut seen = Forces::NONE;
+    let (mut a2_max, mut v2_max, mut all) = (0.0f64, 0.0f64, 0.0);
+    for k in 0..m {
+        let axi = prm.grad_scale * sum_x[k] + prm.body;
+        let ayi = prm.grad_scale * sum_y[k];
         ax[k] = axi;
         ay[k] = ayi;
         vx[k] += inp.half_dt * axi;
         vy[k] += inp.half_dt * ayi;
         let a2 = axi * axi + ayi * ayi;
         let v2 = vx[k] * vx[k] + vy[k] * vy[k];
-        seen.finite &= (a2 + v2).is_finite();
-        seen.a_max = seen.a_max.max(a2);
-        seen.v_max = seen.v_max.max(v2);
+        // 0 x (a2 + v2) is 0 for every finite sum, NaN otherwise: one
+        // test for the task, not a branch per particle.
+        all += 0.0 * (a2 + v2);
+        a2_max = a2_max.max(a2);
+        v2_max = v2_max.max(v2);
     }
-    seen.a_max = seen.a_max.sqrt();
-    seen.v_max = seen.v_max.sqrt();
+    seen.finite = all == 0.0;
+    seen.a_max = a2_max.sqrt();
+    seen.v_max = v2_max.sqrt();
     seen
 }
 

@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use super::isa::Isa;
 use super::state::State;
 use super::CHUNK;
 use crate::solver::neighbours::Displacements;
@@ -24,50 +25,93 @@ pub(crate) fn kick_drift(
     motion.resize(nf / block, (Displacements::EMPTY, 0.0));
     let blocks_per_task = CHUNK.div_ceil(block);
     let span = blocks_per_task * block;
+    let isa = Isa::detect();
     (
-        s.x[..nf].par_chunks_mut(span),
-        s.y[..nf].par_chunks_mut(span),
-        s.vx[..nf].par_chunks_mut(span),
-        s.vy[..nf].par_chunks_mut(span),
-        s.vpx[..nf].par_chunks_mut(span),
-        s.vpy[..nf].par_chunks_mut(span),
-        s.ax.par_chunks(span),
-        s.ay.par_chunks(span),
-        s.x0.par_chunks(span),
-        s.y0.par_chunks(span),
+        (
+            s.x[..nf].par_chunks_mut(span),
+            s.y[..nf].par_chunks_mut(span),
+            s.vx[..nf].par_chunks_mut(span),
+            s.vy[..nf].par_chunks_mut(span),
+            s.vpx[..nf].par_chunks_mut(span),
+            s.vpy[..nf].par_chunks_mut(span),
+        ),
+        (
+            s.ax.par_chunks(span),
+            s.ay.par_chunks(span),
+            s.x0.par_chunks(span),
+            s.y0.par_chunks(span),
+        ),
         motion.par_chunks_mut(blocks_per_task),
     )
         .into_par_iter()
-        .for_each(|(x, y, vx, vy, vpx, vpy, ax, ay, x0, y0, motion)| {
-            for (b, m) in motion.iter_mut().enumerate() {
-                let r = b * block..(b + 1) * block;
-                let (x, y, vx, vy) = (
-                    &mut x[r.clone()],
-                    &mut y[r.clone()],
-                    &mut vx[r.clone()],
-                    &mut vy[r.clone()],
-                );
-                let (vpx, vpy) = (&mut vpx[r.clone()], &mut vpy[r.clone()]);
-                let (ax, ay, x0, y0) = (&ax[r.clone()], &ay[r.clone()], &x0[r.clone()], &y0[r]);
-                let mut d = Displacements::EMPTY;
-                let mut max_abs_y = 0.0f64;
-                for k in 0..block {
-                    vx[k] += half * ax[k];
-                    vy[k] += half * ay[k];
-                    x[k] += dt * vx[k];
-                    y[k] += dt * vy[k];
-                    vpx[k] = vx[k] + half * ax[k];
-                    vpy[k] = vy[k] + half * ay[k];
-                    d.add(x[k] - x0[k], y[k] - y0[k]);
-                    // NaN compares false: make it count as out of the channel.
-                    let ya = y[k].abs();
-                    max_abs_y = if ya.is_nan() {
-                        f64::INFINITY
-                    } else {
-                        max_abs_y.max(ya)
-                    };
-                }
-                *m = (d, max_abs_y);
-            }
+        .for_each(|(out, inp, motion)| {
+            kick_drift_task_on(isa, (half, dt), block, out, inp, motion)
         });
+}
+
+/// One task's state that the kick and drift update: x, y, v_x, v_y and
+/// the predicted v_x, v_y.
+type Moving<'a> = (
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+);
+
+/// What it reads: a_x, a_y and the positions at the last rebuild.
+type Fixed<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64]);
+
+/// The kick and drift of one task's whole blocks, and each block's
+/// displacement box and largest |y|.
+#[inline(always)]
+fn kick_drift_task(
+    (half, dt): (f64, f64),
+    block: usize,
+    (x, y, vx, vy, vpx, vpy): Moving,
+    (ax, ay, x0, y0): Fixed,
+    motion: &mut [(Displacements, f64)],
+) {
+    for (b, m) in motion.iter_mut().enumerate() {
+        let r = b * block..(b + 1) * block;
+        let (x, y, vx, vy) = (
+            &mut x[r.clone()],
+            &mut y[r.clone()],
+            &mut vx[r.clone()],
+            &mut vy[r.clone()],
+        );
+        let (vpx, vpy) = (&mut vpx[r.clone()], &mut vpy[r.clone()]);
+        let (ax, ay, x0, y0) = (&ax[r.clone()], &ay[r.clone()], &x0[r.clone()], &y0[r]);
+        let mut d = Displacements::EMPTY;
+        let mut max_abs_y = 0.0f64;
+        for k in 0..block {
+            vx[k] += half * ax[k];
+            vy[k] += half * ay[k];
+            x[k] += dt * vx[k];
+            y[k] += dt * vy[k];
+            vpx[k] = vx[k] + half * ax[k];
+            vpy[k] = vy[k] + half * ay[k];
+            d.add(x[k] - x0[k], y[k] - y0[k]);
+            // NaN compares false: make it count as out of the channel.
+            let ya = y[k].abs();
+            max_abs_y = if ya.is_nan() {
+                f64::INFINITY
+            } else {
+                max_abs_y.max(ya)
+            };
+        }
+        *m = (d, max_abs_y);
+    }
+}
+
+on_isa! {
+    /// [`kick_drift_task`] compiled for the instruction set `isa`.
+    fn kick_drift_task_on[] => kick_drift_task[](
+        steps: (f64, f64),
+        block: usize,
+        out: Moving,
+        inp: Fixed,
+        motion: &mut [(Displacements, f64)]
+    )
 }

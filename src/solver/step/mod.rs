@@ -50,7 +50,9 @@ mod integrate;
 mod isa;
 mod state;
 
-pub(crate) use density::{density, DENSITY_DISTANCE_FLOPS, DENSITY_SUM_FLOPS};
+pub(crate) use density::{
+    density, density_sums, kernel_alone_ns, kernel_pass, DENSITY_DISTANCE_FLOPS, DENSITY_SUM_FLOPS,
+};
 pub(crate) use forces::{
     forces, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV, FORCE_PAIR_FLOPS_MIRROR,
 };

@@ -215,15 +215,11 @@ impl Params {
     }
 
     /// EOS (13): P = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1), no tension
-    /// unless allowed.
-    #[inline]
-    pub(super) fn pressure(&self, rho: f64) -> f64 {
-        let ratio = rho / self.rho0;
-        let compression = if self.gamma == 1.0 {
-            ratio - 1.0
-        } else {
-            ratio.powf(self.gamma) - 1.0
-        };
+    /// unless allowed, from the compression (rho/rho0)^gamma - 1: the
+    /// density pass forms it, choosing its form (gamma = 1 or the power)
+    /// once per loop.
+    #[inline(always)]
+    pub(super) fn pressure_of(&self, compression: f64) -> f64 {
         let p = self.b_eos * compression;
         if self.allow_negative {
             p
