@@ -239,8 +239,8 @@ pub(super) fn density_chunk<K: Kernel>(
         .fold(f64::NEG_INFINITY, |e, &r| e.max(r / prm.rho0 - 1.0))
 }
 
-/// The EOS (13) over a task's densities, its compression (rho/rho0)^gamma
-/// - 1 from `compression`: P, m/rho and P/rho^2.
+/// The EOS (13) over a task's densities: P, m/rho and P/rho^2, with the
+/// compression (rho/rho0)^gamma minus 1 from `compression`.
 #[inline(always)]
 fn eos(
     prm: &Params,
