@@ -373,13 +373,20 @@ impl NeighbourList {
                     let items = &bin_items[bin_start[cell] as usize..bin_start[cell + 1] as usize];
                     for &j in items {
                         let dy = yi - y[j as usize];
+                        let dy2 = dy * dy;
+                        // r^2 >= dy^2 as computed (adding dx^2 >= 0 rounds
+                        // to no less): a particle too far in y is out
+                        // through every image.
+                        if dy2 > cutoff2 {
+                            continue;
+                        }
                         let dx0 = xi - x[j as usize];
                         for shift in -1i8..=1 {
                             if shift == 0 && j as usize == i {
                                 continue;
                             }
                             let dx = dx0 + f64::from(shift) * width;
-                            let r2 = dx * dx + dy * dy;
+                            let r2 = dx * dx + dy2;
                             if r2 <= cutoff2 {
                                 f(j, shift, r2);
                             }
@@ -528,53 +535,70 @@ impl NeighbourList {
         let zero = self.own_entries.len() as u32;
         let stride = self.stride;
         let (entries, source, count) = (&self.entries, &self.source, &self.count);
-        let per: Vec<Vec<Window>> = (0..n)
+        // Per task of BUILD_CHUNK particles, their windows in one vector
+        // and each one's count: two allocations a task, not one a particle
+        // (on several threads, allocations per particle contend for the
+        // allocator's lock).
+        let per: Vec<(Vec<u32>, Vec<Window>)> = (0..n.div_ceil(BUILD_CHUNK))
             .into_par_iter()
-            .with_min_len(BUILD_CHUNK)
-            .map_init(Vec::new, |slots, i| {
-                let base = i * stride;
-                let c = count[i] as usize;
-                slots.clear();
-                slots.extend(
-                    entries[base..base + c]
-                        .iter()
-                        .zip(&source[base..base + c])
-                        .map(|(&e, &src)| (Entry::index(e) as u32, Entry::image(e) as u32, src)),
-                );
-                slots.sort_unstable();
+            .map_init(Vec::new, |slots, c| {
+                let particles = c * BUILD_CHUNK..((c + 1) * BUILD_CHUNK).min(n);
+                let mut counts = Vec::with_capacity(particles.len());
                 let mut out: Vec<Window> = Vec::new();
-                for &(j, image, src) in slots.iter() {
-                    // A lane holds one entry: j seen through two images (a
-                    // strip narrower than two cutoffs with the skin) takes
-                    // a second window.
-                    let fits = out.last().is_some_and(|w: &Window| {
-                        j < w.start + LANES as u32 && w.mask() & (1 << (j - w.start)) == 0
-                    });
-                    if !fits {
-                        let start = j.min(last_start);
-                        out.push(Window::new(start, 0, [1; LANES], [zero; LANES]));
+                for i in particles {
+                    let base = i * stride;
+                    let c = count[i] as usize;
+                    slots.clear();
+                    // (j, image, source) as one integer in that order.
+                    slots.extend(
+                        entries[base..base + c]
+                            .iter()
+                            .zip(&source[base..base + c])
+                            .map(|(&e, &src)| {
+                                (u64::from(Entry::index(e) as u32) << 34)
+                                    | (Entry::image(e) as u64) << 32
+                                    | u64::from(src)
+                            }),
+                    );
+                    slots.sort_unstable();
+                    let first = out.len();
+                    for &key in slots.iter() {
+                        let (j, image, src) =
+                            ((key >> 34) as u32, (key >> 32) as u32 & 3, key as u32);
+                        // A lane holds one entry: j seen through two images (a
+                        // strip narrower than two cutoffs with the skin) takes
+                        // a second window.
+                        let fits = out.len() > first
+                            && out.last().is_some_and(|w: &Window| {
+                                j < w.start + LANES as u32 && w.mask() & (1 << (j - w.start)) == 0
+                            });
+                        if !fits {
+                            let start = j.min(last_start);
+                            out.push(Window::new(start, 0, [1; LANES], [zero; LANES]));
+                        }
+                        let w = out.last_mut().expect("a window was just pushed");
+                        let lane = (j - w.start) as usize;
+                        w.meta |= 1 << lane;
+                        w.meta = (w.meta & !(3 << (8 + 2 * lane))) | image << (8 + 2 * lane);
+                        w.sources[lane] = src;
                     }
-                    let w = out.last_mut().expect("a window was just pushed");
-                    let lane = (j - w.start) as usize;
-                    w.meta |= 1 << lane;
-                    w.meta = (w.meta & !(3 << (8 + 2 * lane))) | image << (8 + 2 * lane);
-                    w.sources[lane] = src;
+                    counts.push((out.len() - first) as u32);
                 }
-                out
+                (counts, out)
             })
             .collect();
         self.win_start.clear();
         self.win_start.reserve(n + 1);
         self.win_start.push(0);
         let mut total = 0usize;
-        for w in &per {
-            total += w.len();
+        for &c in per.iter().flat_map(|(counts, _)| counts) {
+            total += c as usize;
             self.win_start
                 .push(u32::try_from(total).expect("windows fit in u32"));
         }
         self.windows.clear();
         self.windows.reserve(total);
-        for w in per {
+        for (_, w) in per {
             self.windows.extend_from_slice(&w);
         }
     }
