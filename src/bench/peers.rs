@@ -42,6 +42,8 @@ pub struct PeerRun {
     pub tau: f64,
     /// max over layers of |mean u - start-up series| / U at t.
     pub linf_rel_err: f64,
+    /// Neighbour-list rebuilds during the timed steps.
+    pub neighbour_rebuilds: u64,
 }
 
 /// PySPH's example, in shearsph's terms: the quintic spline (shearsph's
@@ -254,5 +256,6 @@ fn run_matched(
         t: r.last.t,
         tau: r.last.t * flow.nu / (flow.b * flow.b),
         linf_rel_err: r.last.linf_rel_err,
+        neighbour_rebuilds: r.neighbour_rebuilds,
     })
 }
