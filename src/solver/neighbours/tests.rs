@@ -234,4 +234,69 @@ mod stale_tests {
         b[0].add(0.0, 0.31);
         assert!(stale(&b));
     }
+
+    /// The blocks near each block, by testing every pair: what
+    /// [`NeighbourList::find_near_blocks`] must give.
+    fn near_by_brute_force(y: &[f64], cutoff: f64, block: usize) -> Vec<Vec<u32>> {
+        let ranges: Vec<(f64, f64)> = y
+            .chunks(block)
+            .map(|c| {
+                c.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                        (lo.min(v), hi.max(v))
+                    })
+            })
+            .collect();
+        (0..ranges.len())
+            .map(|a| {
+                (a + 1..ranges.len())
+                    .filter(|&b| {
+                        let ((lo_a, hi_a), (lo_b, hi_b)) = (ranges[a], ranges[b]);
+                        (lo_b - hi_a).max(lo_a - hi_b) <= cutoff
+                    })
+                    .map(|b| b as u32)
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn near_of(list: &NeighbourList) -> Vec<Vec<u32>> {
+        (0..list.near_start.len() - 1)
+            .map(|a| {
+                list.near[list.near_start[a] as usize..list.near_start[a + 1] as usize].to_vec()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn near_blocks_are_those_of_testing_every_pair() {
+        // A tall strip (the walls' layers stored after the fluid's, so the
+        // blocks are not in order of y), on the lattice (layers exactly
+        // one cutoff apart at cutoff 1) and jittered in y by up to a third
+        // of the spacing.
+        let l = Lattice::new(crate::kernel::Lattice::Square, 60, 1.0, 1.0, 2.0);
+        let (x, mut y, _) = l.positions();
+        let block = l.columns as usize;
+        let check = |y: &[f64], cutoff: f64| {
+            assert!(cutoff < l.width);
+            let mut list = NeighbourList::default();
+            list.build(&x, y, l.width, cutoff, block);
+            assert_eq!(
+                near_of(&list),
+                near_by_brute_force(y, cutoff, block),
+                "cutoff {cutoff}"
+            );
+        };
+        check(&y, 1.0);
+        for (i, y) in y.iter_mut().enumerate() {
+            *y += 0.33 * ((i as f64 * 7.31).sin());
+        }
+        for cutoff in [0.5, 1.0, 2.3, 4.0] {
+            check(&y, cutoff);
+        }
+        // A state that is not finite takes the pairwise test itself.
+        y[3] = f64::NAN;
+        y[block * 5] = f64::INFINITY;
+        check(&y, 2.3);
+    }
 }

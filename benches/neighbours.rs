@@ -1,0 +1,48 @@
+//! One neighbour-list rebuild: the SPHinXsys-matched scene (2760 particles,
+//! Wendland C2 on the square lattice at h = 1.3 d, the scene whose list
+//! rebuilds about every 55 steps) and the `shearsph bench` scene of the same
+//! kernel at about 10^4 and 10^5 particles, each with its layers sheared
+//! past each other (a parabolic shift of up to 7.3 d in x, wrapped: the
+//! lattice as the flow leaves it between rebuilds), on rayon's default pool.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use shearsph::bench::{layers_for, scene, sphinxsys_match_problem};
+use shearsph::config::ViscousNormalisation;
+use shearsph::kernel::Kernel;
+use shearsph::kernels::WendlandC2;
+use shearsph::problem::Problem;
+use shearsph::solver::neighbours::NeighbourList;
+
+fn rebuild(c: &mut Criterion, label: &str, problem: &Problem) {
+    let lat = problem.lattice;
+    let (mut x, y, _) = lat.positions();
+    let b = lat.b();
+    for (x, &y) in x.iter_mut().zip(&y) {
+        let shift = 7.3 * lat.d * (1.0 - (y / b).powi(2)).max(0.0);
+        *x = (*x + shift).rem_euclid(lat.width);
+    }
+    let cutoff = (WendlandC2::SUPPORT2_CLOSED.sqrt() + problem.skin) * lat.h;
+    let block = lat.columns as usize;
+    let mut list = NeighbourList::default();
+    let mut g = c.benchmark_group("rebuild");
+    g.throughput(Throughput::Elements(x.len() as u64));
+    g.bench_function(format!("{label}_{}_particles", x.len()), |bench| {
+        bench.iter(|| list.build(&x, &y, lat.width, cutoff, block))
+    });
+    g.finish();
+}
+
+fn rebuilds(c: &mut Criterion) {
+    let matched = sphinxsys_match_problem(10, 1.0, Some(120), ViscousNormalisation::Lattice)
+        .expect("the matched scene");
+    rebuild(c, "sphinxsys_match", &matched);
+    for particles in [10_000, 100_000] {
+        let mut s = scene(WendlandC2::NAME);
+        s.n_layers = layers_for(&s, particles).expect("a valid bench scene");
+        let problem = Problem::resolve(&s, WendlandC2::INFO).expect("a valid bench scene");
+        rebuild(c, "bench_wendland_c2", &problem);
+    }
+}
+
+criterion_group!(benches, rebuilds);
+criterion_main!(benches);
