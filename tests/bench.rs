@@ -98,7 +98,15 @@ fn bench_json_has_every_figure() {
             .collect();
         assert_eq!(shares.len(), 3, "{row}");
         assert!(shares.iter().all(|&s| s > 0.0), "{row}");
-        assert!(shares.iter().sum::<f64>() <= 1.0, "{row}");
+        // and the rebuilds, timed apart from them, within the steps too
+        let rebuild = row["rebuild_share"].as_f64().unwrap();
+        assert!(rebuild >= 0.0, "{row}");
+        assert!(shares.iter().sum::<f64>() + rebuild <= 1.0, "{row}");
+        assert_eq!(
+            rebuild > 0.0,
+            row["neighbour_rebuilds"].as_u64().unwrap() > 0,
+            "{row}"
+        );
         assert!(row["lane_use"].as_f64().unwrap() <= 1.0, "{row}");
         assert!(row["flops_per_pair"].as_f64().unwrap() > 0.0);
         // the listed pairs include the skin's

@@ -194,6 +194,9 @@ pub struct Row {
     /// solver): each one's share of the steps' time, in turn the kernel
     /// pass, the density sums and the force pass.
     pub pass_share: [f64; 3],
+    /// The share of the steps' time spent rebuilding the neighbour list
+    /// (the last repeat's, timed inside the solver).
+    pub rebuild_share: f64,
     /// The kernel pass's core-nanoseconds per pair evaluated (its wall time
     /// x the cores used / own pairs), and the kernel alone in lanes on one
     /// core with its values in the first-level cache
@@ -392,6 +395,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     // arrays would count in the runs' peak memory).
                     roofline_gflops: f64::NAN,
                     pass_share: r.pass_s.map(|p| p / r.wall_s),
+                    rebuild_share: r.rebuild_s / r.wall_s,
                     kernel_pass_ns: core_ns_per(0, r.own_pairs),
                     kernel_alone_ns,
                     forces_ns_per_lane: core_ns_per(2, r.fluid_window_lanes),

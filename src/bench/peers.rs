@@ -42,8 +42,10 @@ pub struct PeerRun {
     pub tau: f64,
     /// max over layers of |mean u - start-up series| / U at t.
     pub linf_rel_err: f64,
-    /// Neighbour-list rebuilds during the timed steps.
+    /// Neighbour-list rebuilds during the timed steps, and the seconds
+    /// they took.
     pub neighbour_rebuilds: u64,
+    pub rebuild_s: f64,
 }
 
 /// PySPH's example, in shearsph's terms: the quintic spline (shearsph's
@@ -257,5 +259,6 @@ fn run_matched(
         tau: r.last.t * flow.nu / (flow.b * flow.b),
         linf_rel_err: r.last.linf_rel_err,
         neighbour_rebuilds: r.neighbour_rebuilds,
+        rebuild_s: r.rebuild_s,
     })
 }

@@ -105,10 +105,11 @@ pub fn table(r: &Report) -> String {
          the kernel\npass's core-ns per pair evaluated against the kernel alone in lanes with its \
          values in the first-level\ncache (ratio near 1: bound by the kernel's own square root and \
          division, not by memory); the force\npass's core-ns per lane run against the bound its flops \
-         set at the peak in use, and its lanes' share\nthat are listed pairs:\n",
+         set at the peak in use, and its lanes' share\nthat are listed pairs; the share of the \
+         step spent rebuilding the neighbour list (list%, with its rebuilds):\n",
     );
     out.push_str(&format!(
-        "{:<10} {:>8} {:>3} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>7} {:>7} {:>5} {:>6}\n",
+        "{:<10} {:>8} {:>3} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>7} {:>7} {:>5} {:>6} {:>6} {:>5}\n",
         "kernel",
         "particles",
         "thr",
@@ -121,12 +122,14 @@ pub fn table(r: &Report) -> String {
         "ns/lane",
         "bound",
         "x",
-        "lanes%"
+        "lanes%",
+        "list%",
+        "rebu"
     ));
     for row in &r.rows {
         let [kern, sums, forc] = row.pass_share;
         out.push_str(&format!(
-            "{:<10} {:>8} {:>3} {:>6.1} {:>6.1} {:>6.1} {:>7.2} {:>7.2} {:>5.2} {:>7.3} {:>7.3} {:>5.2} {:>6.1}\n",
+            "{:<10} {:>8} {:>3} {:>6.1} {:>6.1} {:>6.1} {:>7.2} {:>7.2} {:>5.2} {:>7.3} {:>7.3} {:>5.2} {:>6.1} {:>6.1} {:>5}\n",
             row.kernel,
             row.particles,
             row.threads,
@@ -140,6 +143,8 @@ pub fn table(r: &Report) -> String {
             row.forces_lane_bound_ns,
             row.forces_ns_per_lane / row.forces_lane_bound_ns,
             100.0 * row.lane_use,
+            100.0 * row.rebuild_share,
+            row.neighbour_rebuilds,
         ));
     }
     if !r.scaling.is_empty() {

@@ -127,6 +127,8 @@ struct Sim<'p> {
     /// Seconds spent in the pair passes so far: the kernel pass, the
     /// density sums, the force pass.
     pass_s: [f64; 3],
+    /// Seconds spent rebuilding the neighbour list during the steps.
+    rebuild_s: f64,
 }
 
 /// What one step found that may end the run.
@@ -162,6 +164,7 @@ impl<'p> Sim<'p> {
             forces,
             max_eps,
             pass_s: [0.0; 3],
+            rebuild_s: 0.0,
         }
     }
 
@@ -188,9 +191,11 @@ impl<'p> Sim<'p> {
             |b| motion.get(b).map_or(Displacements::ZERO, |m| m.0),
             self.skin,
         ) {
+            let start = Instant::now();
             self.s.wrap(lat.width);
             self.list
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
+            self.rebuild_s += start.elapsed().as_secs_f64();
         }
         let start = Instant::now();
         step::kernel_pass::<K>(&mut self.s, &self.list, &self.prm);
@@ -482,6 +487,9 @@ pub struct StepsRun {
     /// own pairs), the density sums (W gathered per slot, the EOS), the
     /// force pass.
     pub pass_s: [f64; 3],
+    /// Wall-clock seconds of the steps spent rebuilding the neighbour list
+    /// (with wrapping x into the strip).
+    pub rebuild_s: f64,
     /// At the end: the pairs the kernel pass evaluates per step (each once
     /// for both directions), and the lanes the force pass runs per step
     /// (LANES per window of the fluid's, listed or not).
@@ -508,6 +516,7 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
     let pairs_first = sim.pairs_in_support::<K>();
     let rebuilds_first = sim.list.rebuilds;
     sim.pass_s = [0.0; 3];
+    sim.rebuild_s = 0.0;
     let mut t = 0.0;
     let mut taken = 0;
     let mut dt = 0.0;
@@ -542,6 +551,7 @@ fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
         bytes: sim.bytes(),
         pair_loop_s: sim.pass_s.iter().sum(),
         pass_s: sim.pass_s,
+        rebuild_s: sim.rebuild_s,
         own_pairs: sim.list.own_pairs(),
         fluid_window_lanes: (0..sim.s.n_fluid)
             .map(|i| sim.list.windows(i).len())
