@@ -364,7 +364,7 @@ impl NeighbourList {
 
         // Visit every neighbour of i: the particles of the cells within one
         // cell of i's, through every image.
-        let visit = |i: usize, f: &mut dyn FnMut(u32, i8, f64)| {
+        let visit = |i: usize, found: &mut Vec<u128>| {
             let (xi, yi) = (x[i], y[i]);
             let (by, bx) = grid.cell(xi, yi);
             for row in by.saturating_sub(1)..(by + 2).min(grid.rows) {
@@ -388,7 +388,7 @@ impl NeighbourList {
                             let dx = dx0 + f64::from(shift) * width;
                             let r2 = dx * dx + dy2;
                             if r2 <= cutoff2 {
-                                f(j, shift, r2);
+                                found.push(list_key(i, j, shift, r2));
                             }
                         }
                     }
@@ -413,9 +413,9 @@ impl NeighbourList {
                 .enumerate()
                 .map_init(Vec::new, |found, (i, (entries, (c, o)))| {
                     found.clear();
-                    visit(i, &mut |j, s, r2| found.push((r2, j, s)));
+                    visit(i, found);
                     *c = found.len() as u32;
-                    *o = found.iter().filter(|e| is_own(i, e.1, e.2)).count() as u32;
+                    *o = found.iter().filter(|&&key| key >> 96 == 0).count() as u32;
                     if padded(found.len()) <= stride {
                         // Own entries first ([`Self::own`]), then the
                         // mirrored ones; each nearest first: the kernels'
@@ -423,13 +423,12 @@ impl NeighbourList {
                         // prediction follows, for as long as the list lives
                         // (particles move less than the skin). Ties by
                         // index and image, so that the order does not
-                        // depend on the order of visiting; r^2 >= 0 sorts
-                        // as its bits.
-                        found.sort_unstable_by_key(|e| {
-                            (!is_own(i, e.1, e.2), e.0.to_bits(), e.1, e.2)
-                        });
-                        for (slot, &(_, j, s)) in entries.iter_mut().zip(found.iter()) {
-                            *slot = Entry::pack(j as usize, s);
+                        // depend on the order of visiting ([`list_key`]).
+                        found.sort_unstable();
+                        for (slot, &key) in entries.iter_mut().zip(found.iter()) {
+                            let (j, shift) =
+                                ((key >> 2) as u32 & Entry::INDEX_MASK, (key & 3) as i8 - 1);
+                            *slot = Entry::pack(j as usize, shift);
                         }
                         for slot in &mut entries[found.len()..padded(found.len())] {
                             *slot = Entry::padding(i);
@@ -772,6 +771,20 @@ impl Grid {
 fn is_own(i: usize, j: u32, shift: i8) -> bool {
     let j = j as usize;
     j > i || (j == i && shift == 1)
+}
+
+/// The entry (j, image `shift`) of i's list at squared distance `r2` as
+/// the key its list is sorted by: one integer whose order is that of the
+/// tuple (not own, r^2, j, shift), so a sort compares integers. The own
+/// flag in bit 96, r^2's bits in bits 32-95 (r^2 >= 0 orders as its bits),
+/// j in bits 2-31, shift + 1 in bits 0-1.
+#[inline]
+fn list_key(i: usize, j: u32, shift: i8, r2: f64) -> u128 {
+    debug_assert!(r2 >= 0.0 && (j as usize) < Entry::MAX_PARTICLES);
+    (u128::from(!is_own(i, j, shift)) << 96)
+        | (u128::from(r2.to_bits()) << 32)
+        | (u128::from(j) << 2)
+        | u128::from((shift + 1) as u8)
 }
 
 #[cfg(test)]
