@@ -362,8 +362,9 @@ impl NeighbourList {
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
         let cutoff2 = cutoff * cutoff;
 
-        // Visit every neighbour of i: the particles of the cells within one
-        // cell of i's, through every image.
+        // Every neighbour of i: the particles of the cells within one cell
+        // of i's, through every image, into `found` as the keys its list
+        // is sorted by ([`list_key`]).
         let visit = |i: usize, found: &mut Vec<u128>| {
             let (xi, yi) = (x[i], y[i]);
             let (by, bx) = grid.cell(xi, yi);
@@ -540,8 +541,8 @@ impl NeighbourList {
         // allocator's lock).
         let per: Vec<(Vec<u32>, Vec<Window>)> = (0..n.div_ceil(BUILD_CHUNK))
             .into_par_iter()
-            .map_init(Vec::new, |slots, c| {
-                let particles = c * BUILD_CHUNK..((c + 1) * BUILD_CHUNK).min(n);
+            .map_init(Vec::new, |slots, task| {
+                let particles = task * BUILD_CHUNK..((task + 1) * BUILD_CHUNK).min(n);
                 let mut counts = Vec::with_capacity(particles.len());
                 let mut out: Vec<Window> = Vec::new();
                 for i in particles {
