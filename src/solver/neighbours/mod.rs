@@ -622,15 +622,7 @@ impl NeighbourList {
 
     /// The pairs of blocks within `cutoff` of each other in y.
     fn find_near_blocks(&mut self, y: &[f64], cutoff: f64, block: usize) {
-        let ranges: Vec<(f64, f64)> = y
-            .chunks(block)
-            .map(|c| {
-                c.iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                        (lo.min(v), hi.max(v))
-                    })
-            })
-            .collect();
+        let ranges = block_ranges(y, block);
         self.near_start.clear();
         self.near.clear();
         self.near_start.push(0);
@@ -764,6 +756,18 @@ impl Grid {
         let (first, count) = if n == 1 { (0, 1) } else { (c + n - 1, 3) };
         (0..count).map(move |k| (first + k) % n)
     }
+}
+
+/// Each block's lowest and highest y (infinite both for a block of NaN).
+fn block_ranges(y: &[f64], block: usize) -> Vec<(f64, f64)> {
+    y.chunks(block)
+        .map(|c| {
+            c.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                })
+        })
+        .collect()
 }
 
 /// Whether the entry (j, image `shift`) of i's list is i's own

@@ -238,15 +238,7 @@ mod stale_tests {
     /// The blocks near each block, by testing every pair: what
     /// [`NeighbourList::find_near_blocks`] must give.
     fn near_by_brute_force(y: &[f64], cutoff: f64, block: usize) -> Vec<Vec<u32>> {
-        let ranges: Vec<(f64, f64)> = y
-            .chunks(block)
-            .map(|c| {
-                c.iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                        (lo.min(v), hi.max(v))
-                    })
-            })
-            .collect();
+        let ranges = block_ranges(y, block);
         (0..ranges.len())
             .map(|a| {
                 (a + 1..ranges.len())
