@@ -55,8 +55,8 @@ pub(super) struct Scales {
     av: f64,
     /// 2 mu / rho_i.
     visc: f64,
-    /// 1 / (B - |y_i|), the inverse distance to the no-slip plane (mirrored
-    /// walls only).
+    /// 1 / (B - |y_i|), the inverse distance to the no-slip plane, with
+    /// mirrored walls; 0 without (the factor is then 1).
     inv_gap: f64,
     /// The largest factor beta of mirrored walls ([`Params::beta_max`]).
     beta_max: f64,
@@ -183,17 +183,20 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
 /// - the body force p along +x.
 pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
     let isa = Isa::detect();
-    // The pressure form, the artificial viscosity and the walls as constants
-    // of the pair loop: each combination compiles to its own loop.
+    // The pressure form, the artificial viscosity and the walls' factor as
+    // constants of the pair loop: each combination compiles to its own loop.
+    // Without the artificial viscosity, walls that are not mirrored take the
+    // loop with the factor too, at beta = 1 (`inv_gap` 0 in
+    // `forces_chunk`): the same bits, and vector lanes, where LLVM leaves the
+    // loop without both terms unvectorised (too little work a lane, for its
+    // cost model, to pay for the gather of (dW/dq)/q), several times slower.
     let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
         (true, true, true) => forces_with::<true, true, true>,
         (true, true, false) => forces_with::<true, true, false>,
-        (true, false, true) => forces_with::<true, false, true>,
-        (true, false, false) => forces_with::<true, false, false>,
+        (true, false, _) => forces_with::<true, false, true>,
         (false, true, true) => forces_with::<false, true, true>,
         (false, true, false) => forces_with::<false, true, false>,
-        (false, false, true) => forces_with::<false, false, true>,
-        (false, false, false) => forces_with::<false, false, false>,
+        (false, false, _) => forces_with::<false, false, true>,
     };
     f(s, list, prm, half_dt, isa)
 }
@@ -281,11 +284,14 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
     let (rho, y) = (&inp.rho[base..base + m], &inp.y[base..base + m]);
     let mut inv_rho = [0.0; CHUNK];
     let mut inv_gap = [0.0; CHUNK];
+    // 0 when the walls are not mirrored: beta = 1 + min(D x 0, cap) = 1,
+    // exactly, in a loop with the factor ([`forces`]).
+    let gap_scale = if prm.mirror_walls { 1.0 } else { 0.0 };
     for k in 0..m {
         inv_rho[k] = 1.0 / rho[k];
         // Capped by beta_max anyway: a particle at the plane is no
         // division by zero.
-        inv_gap[k] = 1.0 / (prm.b - y[k].abs()).max(f64::MIN_POSITIVE);
+        inv_gap[k] = gap_scale / (prm.b - y[k].abs()).max(f64::MIN_POSITIVE);
     }
     let mut sum_x = [0.0; CHUNK];
     let mut sum_y = [0.0; CHUNK];
@@ -360,68 +366,95 @@ mod tests {
     use crate::kernels::Morris;
     use crate::solver::neighbours::Entry;
 
+    /// Positions, velocities and windows over 200 particles for the pair
+    /// loops' tests.
+    struct Fixture {
+        x: Vec<f64>,
+        y: Vec<f64>,
+        v: Vec<f64>,
+        windows: Vec<Window>,
+        width: f64,
+    }
+
+    impl Fixture {
+        fn new() -> Fixture {
+            let n = 200;
+            // Windows over the particles: starts anywhere (the last one at
+            // the end of the arrays), some lanes listed, every image.
+            let windows = (0..6u32)
+                .map(|k| {
+                    let start = if k == 5 { n as u32 - 8 } else { k * 31 % 150 };
+                    let mask = [0xff, 0x5a, 0x01, 0x80, 0x3c, 0xe7][k as usize];
+                    let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 41);
+                    let images: [u32; 8] = std::array::from_fn(|l| (k + l as u32) % 3);
+                    Window::new(start, mask, images, src)
+                })
+                .collect();
+            Fixture {
+                x: (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect(),
+                y: (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect(),
+                v: (0..n).map(|i| (i as f64 * 0.123).sin()).collect(),
+                windows,
+                width: 7.0,
+            }
+        }
+
+        /// Particle 0's force inputs, its y as the walls' depths (>= 0).
+        fn args<'a>(&'a self, pair_g: &'a [f64], sc: Scales) -> ForceArgs<'a> {
+            ForceArgs {
+                i: 0,
+                windows: &self.windows[..],
+                pair_g,
+                xs: (&self.x[..], &self.y[..]),
+                vs: (&self.v[..], &self.v[..]),
+                pq: &self.v[..],
+                vol: &self.x[..],
+                depth: &self.y[..],
+                width: self.width,
+                sc,
+            }
+        }
+    }
+
+    fn scales(inv_gap: f64, beta_max: f64) -> Scales {
+        Scales {
+            pressure: 0.7,
+            av: 0.3,
+            visc: 0.2,
+            inv_gap,
+            beta_max,
+        }
+    }
+
     /// The pair loops give the same bits whatever instructions they were
     /// compiled for: the vector builds only run the same operations in the
     /// same order in lanes.
     #[test]
     fn pair_loops_give_the_same_bits_on_every_isa() {
-        let n = 200;
-        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect();
-        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect();
-        let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.123).sin()).collect();
-        let width = 7.0;
+        let f = Fixture::new();
+        let n = f.x.len();
         // 37 neighbours (two whole blocks and a part) and padding.
         let mut entries: Vec<u32> = (1..38)
             .map(|j| Entry::pack(j * 5 % n, (j % 3) as i8 - 1))
             .collect();
         entries.resize(40, Entry::padding(0));
-        let sc = Scales {
-            pressure: 0.7,
-            av: 0.3,
-            visc: 0.2,
-            inv_gap: 0.9,
-            beta_max: 3.0,
-        };
         // Where each slot's kernel values come from: a permutation of the
         // evaluated slots, and for the padding the zero slot after them.
         let sources: Vec<u32> = (0..entries.len() as u32)
             .map(|s| if s < 37 { (s * 7 + 3) % 37 } else { 40 })
-            .collect();
-        // Windows over the same particles: starts anywhere (the last one
-        // at the end of the arrays), some lanes listed, every image.
-        let windows: Vec<Window> = (0..6u32)
-            .map(|k| {
-                let start = if k == 5 { n as u32 - 8 } else { k * 31 % 150 };
-                let mask = [0xff, 0x5a, 0x01, 0x80, 0x3c, 0xe7][k as usize];
-                let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 41);
-                let images: [u32; 8] = std::array::from_fn(|l| (k + l as u32) % 3);
-                Window::new(start, mask, images, src)
-            })
             .collect();
         let run = |isa: Isa| {
             let mut w = vec![0.0; entries.len() + 1];
             let mut pg = vec![0.0; entries.len() + 1];
             let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
             let owners = vec![0u32; entries.len()];
-            let xs = (&x[..], &y[..]);
+            let xs = (&f.x[..], &f.y[..]);
             let out = (&mut w[..40], &mut pg[..40]);
-            pair_kernel_on::<Morris>(isa, &entries, &owners, xs, width, 0.5, out, scratch);
+            pair_kernel_on::<Morris>(isa, &entries, &owners, xs, f.width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, &w);
-            let args = ForceArgs {
-                i: 0,
-                windows: &windows[..],
-                pair_g: &pg[..],
-                xs: (&x[..], &y[..]),
-                vs: (&v[..], &v[..]),
-                pq: &v[..],
-                vol: &x[..],
-                depth: &y[..],
-                width,
-                sc,
-            };
-            let f = pair_forces_on::<true, true>(isa, args);
+            let force = pair_forces_on::<true, true>(isa, f.args(&pg, scales(0.9, 3.0)));
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
-            bits.extend([w_sum.to_bits(), f.0.to_bits(), f.1.to_bits()]);
+            bits.extend([w_sum.to_bits(), force.0.to_bits(), force.1.to_bits()]);
             bits
         };
         let base = run(Isa::Base);
@@ -434,6 +467,41 @@ mod tests {
         #[cfg(target_arch = "x86_64")]
         if detected == Isa::Avx512 {
             assert_eq!(run(Isa::Avx2), base, "AVX2 against the base build");
+        }
+    }
+
+    /// Without the artificial viscosity, walls that are not mirrored run the
+    /// loop with the walls' factor at inv_gap = 0 ([`forces`]): the same bits
+    /// as the loop without the factor, on every instruction set, whatever
+    /// the cap; and the factor acts where the gap is not 0.
+    #[test]
+    fn the_walls_factor_at_zero_inverse_gap_is_the_loop_without_it() {
+        let f = Fixture::new();
+        // (dW/dq)/q of 40 slots, and the zero place after them.
+        let pg: Vec<f64> = (0..41)
+            .map(|s| if s < 40 { (s as f64 * 0.37).sin() } else { 0.0 })
+            .collect();
+        let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+        let mut isas = vec![Isa::Base, Isa::detect()];
+        #[cfg(target_arch = "x86_64")]
+        if Isa::detect() == Isa::Avx512 {
+            isas.push(Isa::Avx2);
+        }
+        for isa in isas {
+            for beta_max in [1.0, 3.0] {
+                let without =
+                    pair_forces_on::<false, false>(isa, f.args(&pg, scales(0.9, beta_max)));
+                let at_zero =
+                    pair_forces_on::<false, true>(isa, f.args(&pg, scales(0.0, beta_max)));
+                assert_eq!(bits(at_zero), bits(without), "{isa:?}, beta_max {beta_max}");
+                let mirrored =
+                    pair_forces_on::<false, true>(isa, f.args(&pg, scales(0.9, beta_max)));
+                assert_eq!(
+                    bits(mirrored) == bits(without),
+                    beta_max == 1.0,
+                    "{isa:?}: the factor is 1 only where its cap is"
+                );
+            }
         }
     }
 }
