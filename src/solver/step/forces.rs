@@ -146,7 +146,11 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
                 // A wall particle at depth D beyond the no-slip plane shows
                 // fluid particle i, at distance g from it, the velocity
                 // -(D / g) v_i: the velocity difference grows by beta.
-                lv *= 1.0 + (depthw[l] * sc.inv_gap).min(beta_cap);
+                // A select, not f64::min: the cap is not NaN (beta_max >=
+                // 1), and min's care for a NaN cap costs two instructions a
+                // lane. The same value for every ratio, NaN included.
+                let ratio = depthw[l] * sc.inv_gap;
+                lv *= 1.0 + if ratio < beta_cap { ratio } else { beta_cap };
             }
             let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
             if AV {
