@@ -192,8 +192,9 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt:
     // Without the artificial viscosity, walls that are not mirrored take the
     // loop with the factor too, at beta = 1 (`inv_gap` 0 in
     // `forces_chunk`): the same bits, and vector lanes, where LLVM leaves the
-    // loop without both terms unvectorised (too little work a lane, for its
-    // cost model, to pay for the gather of (dW/dq)/q), several times slower.
+    // loop without both terms in scalar code (its cost model, it seems,
+    // finds too little work a lane to pay for the gather of (dW/dq)/q):
+    // 1.6x the whole run on one thread (bench/peers/README.md).
     let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
         (true, true, true) => forces_with::<true, true, true>,
         (true, true, false) => forces_with::<true, true, false>,
