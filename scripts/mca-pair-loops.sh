@@ -92,7 +92,8 @@ for sym, body in funcs:
         out = subprocess.run(['llvm-mca', f'-mcpu={mcpu}', '-iterations=300', src],
                              capture_output=True, text=True)
         if out.returncode != 0:
-            rows.append((name, target, len(text), None, out.stderr.strip().splitlines()[0]))
+            why = (out.stderr.strip().splitlines() or [f'llvm-mca exited {out.returncode}'])[0]
+            rows.append((name, target, len(text), None, why))
             continue
         cycles = int(re.search(r'Total Cycles:\s+(\d+)', out.stdout).group(1)) / 300
         lines = out.stdout.splitlines()
@@ -111,6 +112,10 @@ for sym, body in funcs:
                 break
         rows.append((name, target, len(text), cycles, busiest))
 
+if not rows:
+    sys.exit('error: no vectorised loop found in the AVX-512 instances of the pair passes '
+             '(were they renamed? the script looks for forces_chunk_on, kernel_chunk_on, '
+             'density_chunk_on)')
 print(f'llvm-mca -mcpu={mcpu}, 300 iterations of each innermost vectorised loop')
 print(f'{"instance":62s} {"loop at":>8s} {"instr":>5s} {"cycles/iter":>11s}  busiest resource (cycles/iter)')
 for name, target, n, cycles, busiest in rows:
