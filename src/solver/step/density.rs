@@ -63,15 +63,26 @@ pub(super) fn pair_kernel<K: Kernel>(
 
 /// Sum of W over a particle's padded slots, taken from the slots `sources`
 /// name ([`NeighbourList::sources_padded`]), in LANES accumulators (a fixed
-/// order: the result does not depend on how the loop is compiled).
+/// order: the result does not depend on how the loop is compiled). `run`
+/// = (first, whole): the first `whole` groups of LANES slots name the
+/// consecutive places from `first` (a particle's own entries, from
+/// [`NeighbourList::own_start`]), loaded as contiguous vectors instead of
+/// gathered: the same values in the same order, the same bits.
 #[inline(always)]
-pub(super) fn pair_gather(sources: &[u32], pair_w: &[f64]) -> f64 {
+pub(super) fn pair_gather(sources: &[u32], run: (usize, usize), pair_w: &[f64]) -> f64 {
     let n = pair_w.len();
     assert!(n > 0);
     // Clamped in 32 bits, as the force pass's: a vector gather.
     let last = u32::try_from(n - 1).expect("slots fit in u32");
     let mut acc = [0.0; LANES];
-    for src in sources.chunks_exact(LANES) {
+    let (first, whole) = run;
+    let direct = &pair_w[first..first + whole * LANES];
+    for w in direct.chunks_exact(LANES) {
+        for l in 0..LANES {
+            acc[l] += w[l];
+        }
+    }
+    for src in sources[whole * LANES..].chunks_exact(LANES) {
         for l in 0..LANES {
             acc[l] += pair_w[src[l].min(last) as usize];
         }
@@ -222,7 +233,9 @@ pub(super) fn density_chunk<K: Kernel>(
     let m = rho.len();
     assert!(press.len() == m && vol.len() == m && p_rho2.len() == m);
     for (k, r) in rho.iter_mut().enumerate() {
-        let pairs = pair_gather(inp.list.sources_padded(base + k), pair_w);
+        let i = base + k;
+        let run = (inp.list.own_start(i), inp.list.own(i) / LANES);
+        let pairs = pair_gather(inp.list.sources_padded(i), run, pair_w);
         let sum = w_self + pairs;
         *r = prm.mass_over_h2 * sum;
     }
@@ -339,5 +352,55 @@ on_isa! {
 on_isa! {
     /// [`pair_gather`] alone, for the test that compares instruction sets.
     #[cfg(test)]
-    pub(super) fn pair_gather_on[] => pair_gather[](sources: &[u32], pair_w: &[f64]) -> f64
+    pub(super) fn pair_gather_on[] => pair_gather[](
+        sources: &[u32],
+        run: (usize, usize),
+        pair_w: &[f64]
+    ) -> f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The slots of a particle's first groups name consecutive places in
+    /// the pair table (its own entries): [`pair_gather`] loads those as
+    /// contiguous vectors, the same bits as gathering them, on every
+    /// instruction set.
+    #[test]
+    fn consecutive_places_load_as_the_gather_would() {
+        // 37 slots, the first 19 consecutive from 5, then others, then
+        // padding at the zero place 60.
+        let w: Vec<f64> = (0..61)
+            .map(|s| {
+                if s < 60 {
+                    (s as f64 * 0.731).sin() * 1e-3
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let sources: Vec<u32> = (0..40u32)
+            .map(|s| match s {
+                0..19 => 5 + s,
+                19..37 => (s * 11) % 60,
+                _ => 60,
+            })
+            .collect();
+        let mut isas = vec![Isa::Base, Isa::detect()];
+        #[cfg(target_arch = "x86_64")]
+        if Isa::detect() == Isa::Avx512 {
+            isas.push(Isa::Avx2);
+        }
+        let gathered = pair_gather_on(Isa::Base, &sources, (0, 0), &w).to_bits();
+        for isa in isas {
+            for whole in 0..=2 {
+                let got = pair_gather_on(isa, &sources, (5, whole), &w);
+                assert_eq!(got.to_bits(), gathered, "{isa:?}, {whole} groups");
+            }
+        }
+        // A run that is not the slots' places changes the sum.
+        let wrong = pair_gather_on(Isa::Base, &sources, (6, 1), &w);
+        assert_ne!(wrong.to_bits(), gathered);
+    }
 }

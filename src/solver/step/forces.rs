@@ -133,9 +133,22 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
         let (vxw, vyw) = (lanes(vpx, start), lanes(vpy, start));
         let (pqw, volw) = (lanes(pq, start), lanes(vol, start));
         let depthw = if MIRROR { lanes(depth, start) } else { xw };
+        let g: [f64; LANES] = std::array::from_fn(|l| pair_g[win.sources[l].min(last_g) as usize]);
+        // A window whose every lane has g = 0 (its pairs out of the
+        // kernel's support this step: listed for the skin, or at R h
+        // exactly; on a square lattice at h = d a row or two of every
+        // list) adds +-0 to every accumulator, which leaves it as it is
+        // (an accumulator is never -0: it starts at +0, and a sum that
+        // cancels to zero rounds to +0): skipped, the same bits. (Terms
+        // that are not finite would have made i's sum NaN; such a state
+        // fails the run through the particle that holds it anyway,
+        // [`Forces::finite`].)
+        if g.iter().all(|&g| g == 0.0) {
+            continue;
+        }
         for l in 0..LANES {
             let offset = win.offset(l, width);
-            let g = pair_g[win.sources[l].min(last_g) as usize];
+            let g = g[l];
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
             let dx = xi - xw[l] + offset;
             let dy = yi - yw[l];
@@ -456,7 +469,7 @@ mod tests {
             let xs = (&f.x[..], &f.y[..]);
             let out = (&mut w[..40], &mut pg[..40]);
             pair_kernel_on::<Morris>(isa, &entries, &owners, xs, f.width, 0.5, out, scratch);
-            let w_sum = pair_gather_on(isa, &sources, &w);
+            let w_sum = pair_gather_on(isa, &sources, (0, 0), &w);
             let force = pair_forces_on::<true, true>(isa, f.args(&pg, scales(0.9, 3.0)));
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), force.0.to_bits(), force.1.to_bits()]);
@@ -472,6 +485,50 @@ mod tests {
         #[cfg(target_arch = "x86_64")]
         if detected == Isa::Avx512 {
             assert_eq!(run(Isa::Avx2), base, "AVX2 against the base build");
+        }
+    }
+
+    /// A window whose lanes all have g = 0 is skipped ([`pair_forces`]):
+    /// the same bits as without it, on every instruction set and loop; a
+    /// window with one lane's g not 0 is not.
+    #[test]
+    fn windows_whose_every_g_is_zero_add_nothing() {
+        let f = Fixture::new();
+        let pg: Vec<f64> = (0..41)
+            .map(|s| if s < 40 { (s as f64 * 0.37).sin() } else { 0.0 })
+            .collect();
+        let zero = Window::new(60, 0xff, [1; LANES], [40; LANES]);
+        let mut one = [40; LANES];
+        one[3] = 7;
+        let live = Window::new(60, 0xff, [1; LANES], one);
+        let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+        let with = |extra: Window| {
+            let mut w = f.windows.clone();
+            w.insert(2, extra);
+            w
+        };
+        let (with_zero, with_live) = (with(zero), with(live));
+        let mut isas = vec![Isa::Base, Isa::detect()];
+        #[cfg(target_arch = "x86_64")]
+        if Isa::detect() == Isa::Avx512 {
+            isas.push(Isa::Avx2);
+        }
+        for isa in isas {
+            let sc = scales(0.9, 3.0);
+            let run = |windows: &[Window]| {
+                let args = ForceArgs {
+                    windows,
+                    ..f.args(&pg, sc)
+                };
+                [
+                    bits(pair_forces_on::<false, false>(isa, args)),
+                    bits(pair_forces_on::<true, true>(isa, args)),
+                ]
+            };
+            let base = run(&f.windows);
+            assert_eq!(run(&with_zero), base, "{isa:?}");
+            let changed = run(&with_live);
+            assert!(changed.iter().zip(&base).all(|(c, b)| c != b), "{isa:?}");
         }
     }
 
