@@ -310,12 +310,13 @@ impl<'p> Sim<'p> {
     /// Bytes the pair passes of one step move at the least: every array
     /// they read or write once (a neighbour's values gathered from cache
     /// after the first touch are not counted again). The kernel pass reads
-    /// the pair table's entries and owners (4 + 4 per own pair) and x, y,
-    /// and writes W, (dW/dq)/q (8 + 8); the density sum reads each padded
+    /// the pair table's entries and owners (4 + 4 per own pair), each
+    /// pair's two window lanes (4 + 4) and x, y, and writes W (8) and
+    /// (dW/dq)/q into both lanes (8 + 8); the density sum reads each padded
     /// slot's source and W (4 + 8) and writes rho, P, m/rho, P/rho^2; the
-    /// force pass reads each window (its start, lanes and LANES sources, 40)
-    /// and each listed pair's (dW/dq)/q (8), the particle arrays x, y, vx,
-    /// vy predicted, P, m/rho (and the wall depth), and reads and writes the
+    /// force pass reads each window (its start and lanes, 8) and its
+    /// lanes' (dW/dq)/q (8 a lane), the particle arrays x, y, vx, vy
+    /// predicted, P, m/rho (and the wall depth), and reads and writes the
     /// fluid's rho, v and a.
     fn pass_bytes(&self) -> f64 {
         let (n, nf) = (self.s.x.len() as f64, self.s.n_fluid as f64);
@@ -324,13 +325,12 @@ impl<'p> Sim<'p> {
             .map(|i| self.list.sources_padded(i).len() as f64)
             .sum();
         let windows = self.list.window_count() as f64;
-        let listed = self.list.pairs() as f64;
         let depth = if self.prm.mirror_walls { 8.0 } else { 0.0 };
-        let kernel = own * 24.0 + 16.0 * n;
+        let kernel = own * 40.0 + 16.0 * n;
         let sum = padded * 12.0 + 4.0 * n + 32.0 * n;
         let window = size_of::<crate::solver::neighbours::Window>() as f64;
-        let forces =
-            windows * window + listed * 8.0 + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
+        let lanes = (crate::solver::neighbours::LANES * size_of::<f64>()) as f64;
+        let forces = windows * (window + lanes) + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
         kernel + sum + forces
     }
 

@@ -10,7 +10,9 @@
 //! the thread count. For the force pass, each list is also cut into
 //! [`Window`]s, runs of LANES consecutive indices (each lane with its own
 //! image): the lattice keeps its rows in index order, so a neighbour row is
-//! one or two windows, loaded as contiguous vectors instead of gathered.
+//! one or two windows, loaded as contiguous vectors instead of gathered;
+//! each pair's (dW/dq)/q is written where both its window lanes read it
+//! ([`NeighbourList::lanes_of_pairs`]).
 //!
 //! Rebuild rule: a pair not in the list was more than R h + skin apart; it
 //! can only have come within R h if the two displacements since the rebuild
@@ -23,6 +25,8 @@
 //! whole fluid's box grows as U t, but that of neighbouring layers only as
 //! (dU/dy) (R h) t, so the list lives about B / (R h) times longer than with
 //! one box for all.
+
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
@@ -50,6 +54,15 @@ pub struct NeighbourList {
     /// particle i's are `windows[win_start[i]..win_start[i + 1]]`.
     win_start: Vec<u32>,
     windows: Vec<Window>,
+    /// Each window's lanes' places in the pair table (the zero place for a
+    /// lane not listed): `win_sources[w]` for `windows[w]`.
+    win_sources: Vec<[u32; LANES]>,
+    /// For each own pair (the pair table's place s), the two window lanes
+    /// that list it, as LANES w + l: `lane_of[2 s]` and `lane_of[2 s + 1]`.
+    lane_of: Vec<u32>,
+    /// This build's number, unique among all lists' builds in the process
+    /// ([`Self::generation`]).
+    generation: u64,
     /// The strip's width: the images' offsets ([`Entry::offset`]).
     width: f64,
     /// Cell list ([`Grid`]): particle indices sorted by cell, and where
@@ -130,15 +143,16 @@ impl Entry {
 
 /// A piece of a list as LANES consecutive particle indices: the listed
 /// neighbours j in `start..start + LANES`, as bits of the mask (bit l for
-/// j = start + l), each with the image it was found through, and for each
-/// lane where its pair's (dW/dq)/q is in the pair table (the zero place for
-/// a lane not listed). The lattice keeps its rows in index order, so a row
+/// j = start + l), each with the image it was found through. Its lanes'
+/// (dW/dq)/q are LANES consecutive values of the window-lane table the
+/// kernel pass fills ([`NeighbourList::lanes_of_pairs`]; 0 in a lane not
+/// listed). The lattice keeps its rows in index order, so a row
 /// of i's neighbours is a few consecutive indices: one window, or two where
 /// it holds more than LANES or crosses the strip's edge on a wide strip (a
 /// whole row of a narrow strip, wrapped through two images, is one): the
 /// force pass
-/// loads a window's positions, velocities, pressures and volumes as
-/// contiguous vectors, and gathers only the kernel's values. A lane holds
+/// loads a window's positions, velocities, pressures, volumes and kernel
+/// values as contiguous vectors, without a gather. A lane holds
 /// one entry: a particle listed through two images (a strip narrower than
 /// twice the cutoff with the skin) is in two windows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,14 +162,13 @@ pub struct Window {
     /// The lanes listed (bits 0-7) and each lane's image code (bits 8 + 2 l
     /// and 9 + 2 l, as [`Entry::image`]).
     meta: u32,
-    pub sources: [u32; LANES],
 }
 
 impl Window {
     /// A window at `start` with the lanes `mask` (bits 0-7) listed, lane l
     /// found through the image code `images[l]` (0 to 2, as
     /// [`Entry::image`]).
-    pub fn new(start: u32, mask: u8, images: [u32; LANES], sources: [u32; LANES]) -> Window {
+    pub fn new(start: u32, mask: u8, images: [u32; LANES]) -> Window {
         assert!(images.iter().all(|&c| c <= 2), "image codes are 0, 1 and 2");
         let codes = images
             .iter()
@@ -164,7 +177,6 @@ impl Window {
         Window {
             start,
             meta: u32::from(mask) | codes,
-            sources,
         }
     }
 
@@ -310,6 +322,35 @@ impl NeighbourList {
         &self.windows[self.win_start[i] as usize..self.win_start[i + 1] as usize]
     }
 
+    /// Where particle i's windows start among all lists' windows: its
+    /// lanes' (dW/dq)/q start at LANES times this in the window-lane table.
+    #[inline]
+    pub fn window_start(&self, i: usize) -> usize {
+        self.win_start[i] as usize
+    }
+
+    /// Particle i's windows' lanes' places in the pair table (the zero
+    /// place, [`Self::own_pairs`], for a lane not listed), window by window.
+    pub fn window_sources(&self, i: usize) -> &[[u32; LANES]] {
+        &self.win_sources[self.win_start[i] as usize..self.win_start[i + 1] as usize]
+    }
+
+    /// For each own pair, in the pair table's order, the two window lanes
+    /// that list it (LANES w + l, w among all lists' windows): its own
+    /// entry's and its mirror's (for i's own image, both in i's windows).
+    /// The kernel pass writes each pair's (dW/dq)/q into both, so that the
+    /// force pass loads a window's as one vector.
+    pub fn lanes_of_pairs(&self) -> &[u32] {
+        &self.lane_of
+    }
+
+    /// This build's number: unique among every list's builds in the
+    /// process, so a table filled for one build is known to be stale for
+    /// any other.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
     /// Windows of all lists.
     pub fn window_count(&self) -> usize {
         self.windows.len()
@@ -333,9 +374,11 @@ impl NeighbourList {
             + self.bin_items.capacity()
             + self.near_start.capacity()
             + self.near.capacity()
-            + self.win_start.capacity())
+            + self.win_start.capacity()
+            + self.lane_of.capacity())
             * size_of::<u32>()
             + self.windows.capacity() * size_of::<Window>()
+            + self.win_sources.capacity() * size_of::<[u32; LANES]>()
     }
 
     /// Rebuild for positions `x` (wrapped into [0, width)) and `y`, every pair
@@ -451,6 +494,9 @@ impl NeighbourList {
         self.fill_own_stream();
         self.find_sources();
         self.fill_windows();
+        self.find_lanes();
+        static BUILDS: AtomicU64 = AtomicU64::new(0);
+        self.generation = BUILDS.fetch_add(1, Ordering::Relaxed) + 1;
         self.rebuilds += 1;
     }
 
@@ -539,12 +585,14 @@ impl NeighbourList {
         // and each one's count: two allocations a task, not one a particle
         // (on several threads, allocations per particle contend for the
         // allocator's lock).
-        let per: Vec<(Vec<u32>, Vec<Window>)> = (0..n.div_ceil(BUILD_CHUNK))
+        type Task = (Vec<u32>, Vec<Window>, Vec<[u32; LANES]>);
+        let per: Vec<Task> = (0..n.div_ceil(BUILD_CHUNK))
             .into_par_iter()
             .map_init(Vec::new, |slots, task| {
                 let particles = task * BUILD_CHUNK..((task + 1) * BUILD_CHUNK).min(n);
                 let mut counts = Vec::with_capacity(particles.len());
                 let mut out: Vec<Window> = Vec::new();
+                let mut sources: Vec<[u32; LANES]> = Vec::new();
                 for i in particles {
                     let base = i * stride;
                     let c = count[i] as usize;
@@ -574,33 +622,66 @@ impl NeighbourList {
                             });
                         if !fits {
                             let start = j.min(last_start);
-                            out.push(Window::new(start, 0, [1; LANES], [zero; LANES]));
+                            out.push(Window::new(start, 0, [1; LANES]));
+                            sources.push([zero; LANES]);
                         }
                         let w = out.last_mut().expect("a window was just pushed");
                         let lane = (j - w.start) as usize;
                         w.meta |= 1 << lane;
                         w.meta = (w.meta & !(3 << (8 + 2 * lane))) | image << (8 + 2 * lane);
-                        w.sources[lane] = src;
+                        sources.last_mut().expect("pushed with its window")[lane] = src;
                     }
                     counts.push((out.len() - first) as u32);
                 }
-                (counts, out)
+                (counts, out, sources)
             })
             .collect();
         self.win_start.clear();
         self.win_start.reserve(n + 1);
         self.win_start.push(0);
         let mut total = 0usize;
-        for &c in per.iter().flat_map(|(counts, _)| counts) {
+        for &c in per.iter().flat_map(|(counts, _, _)| counts) {
             total += c as usize;
             self.win_start
                 .push(u32::try_from(total).expect("windows fit in u32"));
         }
         self.windows.clear();
         self.windows.reserve(total);
-        for (_, w) in per {
+        self.win_sources.clear();
+        self.win_sources.reserve(total);
+        for (_, w, src) in per {
             self.windows.extend_from_slice(&w);
+            self.win_sources.extend_from_slice(&src);
         }
+    }
+
+    /// Fill [`Self::lanes_of_pairs`] from the windows' sources: every own
+    /// pair is listed in exactly two lanes (its entry's and its mirror's).
+    fn find_lanes(&mut self) {
+        let pairs = self.own_entries.len();
+        let none = u32::MAX;
+        self.lane_of.clear();
+        self.lane_of.resize(2 * pairs, none);
+        for (w, (win, src)) in self.windows.iter().zip(&self.win_sources).enumerate() {
+            for (l, &s) in src.iter().enumerate() {
+                if win.mask() & (1 << l) == 0 {
+                    continue;
+                }
+                let lane = u32::try_from(w * LANES + l).expect("window lanes fit in u32");
+                let s = s as usize;
+                let at = if self.lane_of[2 * s] == none {
+                    2 * s
+                } else {
+                    2 * s + 1
+                };
+                assert_eq!(self.lane_of[at], none, "a pair is listed in two lanes only");
+                self.lane_of[at] = lane;
+            }
+        }
+        assert!(
+            self.lane_of.iter().all(|&l| l != none),
+            "every own pair is listed in two lanes"
+        );
     }
 
     /// Whether the list may miss a pair within `cutoff - skin`, given each

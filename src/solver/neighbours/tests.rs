@@ -59,8 +59,12 @@ mod lists {
 
     /// The windows hold every entry once, at its index's lane, with its
     /// image and its slot's source, and nothing else: a lane not listed
-    /// points at the zero place; every window lies inside the arrays.
+    /// points at the zero place; every window lies inside the arrays. Each
+    /// own pair's two lanes ([`NeighbourList::lanes_of_pairs`]) are the
+    /// two listed lanes whose source it is, and every listed lane is one
+    /// pair's.
     fn check_windows(list: &NeighbourList, n: usize) {
+        let mut listed = Vec::new();
         for i in 0..n {
             let mut want: Vec<(usize, usize, u32)> = list
                 .of(i)
@@ -70,19 +74,39 @@ mod lists {
                 .collect();
             want.sort();
             let mut got = Vec::new();
-            for w in list.windows(i) {
+            let first = list.window_start(i);
+            for (k, (w, src)) in list
+                .windows(i)
+                .iter()
+                .zip(list.window_sources(i))
+                .enumerate()
+            {
                 assert!(w.start as usize + LANES <= n, "particle {i}");
-                for l in 0..LANES {
+                for (l, &src) in src.iter().enumerate() {
                     if w.mask() & (1 << l) != 0 {
-                        got.push((w.image(l) as usize, w.start as usize + l, w.sources[l]));
+                        got.push((w.image(l) as usize, w.start as usize + l, src));
+                        listed.push(((first + k) * LANES + l, src));
                     } else {
-                        assert_eq!(w.sources[l] as usize, list.own_pairs());
+                        assert_eq!(src as usize, list.own_pairs());
                     }
                 }
             }
             got.sort();
             assert_eq!(got, want, "particle {i}");
         }
+        let lanes = list.lanes_of_pairs();
+        assert_eq!(lanes.len(), 2 * list.own_pairs());
+        let mut from_pairs: Vec<(usize, u32)> = lanes
+            .iter()
+            .enumerate()
+            .map(|(k, &lane)| (lane as usize, (k / 2) as u32))
+            .collect();
+        from_pairs.sort();
+        listed.sort();
+        assert_eq!(
+            from_pairs, listed,
+            "each listed lane is one pair's, each pair in two"
+        );
     }
 
     /// A strip narrower than two cutoffs lists some neighbours through two

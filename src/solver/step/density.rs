@@ -1,6 +1,8 @@
 //! Density by summation (11) with the EOS: the kernel pass (W and
 //! (dW/dq)/q once per pair) and the per-particle sums.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rayon::prelude::*;
 
 use super::isa::{lane_sum, Isa, Scratch, BLOCK};
@@ -96,15 +98,16 @@ pub(super) fn pair_gather(sources: &[u32], run: (usize, usize), pair_w: &[f64]) 
 /// evaluation, once per pair, on the lists' own entries
 /// ([`NeighbourList::own`]) streamed in equal pieces without padding
 /// ([`NeighbourList::own_stream`]); then per particle the sum of W over all its
-/// slots, each taken from where it was evaluated, and the (dW/dq)/q of
-/// every slot kept for [`super::forces::forces`].
+/// slots, each taken from where it was evaluated. The (dW/dq)/q of every
+/// pair is kept for [`super::forces::forces`] in both window lanes that
+/// list it.
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
     kernel_pass::<K>(s, list, prm);
     density_sums::<K>(s, list, prm)
 }
 
-/// The first half of [`density`], timed apart by the solver: W and
-/// (dW/dq)/q of every own pair into the pair table.
+/// The first half of [`density`], timed apart by the solver: W of every
+/// own pair into the pair table, its (dW/dq)/q into the window-lane table.
 pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) {
     let isa = Isa::detect();
     // The pair table and after it a place kept at zero that padding reads:
@@ -113,21 +116,46 @@ pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &
     if s.pair_slots != pairs {
         s.pair_slots = pairs;
         s.pair_w.resize(pairs + 1, 0.0);
-        s.pair_g.resize(pairs + 1, 0.0);
         s.pair_w[pairs] = 0.0;
-        s.pair_g[pairs] = 0.0;
+    }
+    // The window-lane table, zeroed for each new list: a lane not listed is
+    // never written and stays 0.
+    if s.lane_g_of != list.generation() {
+        s.lane_g.clear();
+        s.lane_g.resize(list.window_count() * LANES, 0.0);
+        s.lane_g_of = list.generation();
     }
     let n = s.x.len();
     let inp = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, prm);
     let (entries, owners) = list.own_stream();
+    let lane_g = as_atomic(&mut s.lane_g);
+    let lanes = list.lanes_of_pairs();
     (
         s.pair_w[..pairs].par_chunks_mut(STREAM_CHUNK),
-        s.pair_g[..pairs].par_chunks_mut(STREAM_CHUNK),
         entries.par_chunks(STREAM_CHUNK),
         owners.par_chunks(STREAM_CHUNK),
+        lanes.par_chunks(2 * STREAM_CHUNK),
     )
         .into_par_iter()
-        .for_each(|(w, g, e, o)| kernel_chunk_on::<K>(isa, (w, g), e, o, &inp));
+        .for_each(|(w, e, o, l)| kernel_chunk_on::<K>(isa, (w, lane_g), e, o, l, &inp));
+}
+
+/// `v` as atomics, which tasks running at once may store into (each of the
+/// kernel pass's lanes is written by one pair, but which pair writes where
+/// is data, not something the borrow checker can split). A relaxed store
+/// of an `AtomicU64` is a plain store on x86-64 and the other 64-bit
+/// targets. The same cast as the standard library's unstable
+/// `AtomicU64::from_mut_slice`.
+fn as_atomic(v: &mut [f64]) -> &[AtomicU64] {
+    const {
+        assert!(size_of::<AtomicU64>() == size_of::<f64>());
+        assert!(align_of::<AtomicU64>() == align_of::<f64>());
+    }
+    // SAFETY: AtomicU64 has the size and alignment of f64 (checked above)
+    // and the in-memory representation of u64, whose every bit pattern is
+    // an f64's; `v` stays borrowed exclusively for as long as the view
+    // lives, so nothing else reads or writes it meanwhile.
+    unsafe { &*(v as *mut [f64] as *const [AtomicU64]) }
 }
 
 /// The second half of [`density`]: the sums of W from the pair table and
@@ -187,27 +215,51 @@ impl<'a> DensityIn<'a> {
 /// whole blocks.
 const STREAM_CHUNK: usize = 32 * BLOCK;
 
-/// One task's outputs of the kernel pass: the W and (dW/dq)/q slots.
-pub(super) type KernelOut<'a> = (&'a mut [f64], &'a mut [f64]);
+/// One task's outputs of the kernel pass: its W slots, and the window-lane
+/// table of (dW/dq)/q ([`NeighbourList::lanes_of_pairs`]).
+pub(super) type KernelOut<'a> = (&'a mut [f64], &'a [AtomicU64]);
 
-/// W and (dW/dq)/q of one piece of the pair table's stream.
+/// W and (dW/dq)/q of one piece of the pair table's stream, block by
+/// block: W into the pair table, (dW/dq)/q into both window lanes that list
+/// each pair (`lane_of`, two per pair: scattered stores, where the force
+/// pass would otherwise gather each window's eight values).
 #[inline(always)]
 pub(super) fn kernel_chunk<K: Kernel>(
     out: KernelOut,
     entries: &[u32],
     owners: &[u32],
+    lane_of: &[u32],
     inp: &DensityIn,
 ) {
+    let (w_out, lane_g) = out;
+    assert!(lane_of.len() == 2 * entries.len() && !lane_g.is_empty());
+    // Clamped into the table: no bounds check (a lane is in it by
+    // construction of the list anyway).
+    let last = lane_g.len() - 1;
     let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
-    pair_kernel::<K>(
-        entries,
-        owners,
-        (inp.x, inp.y),
-        inp.width,
-        inp.prm.inv_h2,
-        out,
-        scratch,
-    );
+    let mut g = [0.0; BLOCK];
+    for (((e, o), w), d) in entries
+        .chunks(BLOCK)
+        .zip(owners.chunks(BLOCK))
+        .zip(w_out.chunks_mut(BLOCK))
+        .zip(lane_of.chunks(2 * BLOCK))
+    {
+        let m = e.len();
+        pair_kernel::<K>(
+            e,
+            o,
+            (inp.x, inp.y),
+            inp.width,
+            inp.prm.inv_h2,
+            (w, &mut g[..m]),
+            scratch,
+        );
+        for (&g, d) in g[..m].iter().zip(d.chunks_exact(2)) {
+            for &lane in d {
+                lane_g[(lane as usize).min(last)].store(g.to_bits(), Ordering::Relaxed);
+            }
+        }
+    }
 }
 
 /// One task's outputs: rho, P, m/rho, P/rho^2.
@@ -275,6 +327,7 @@ on_isa! {
         out: KernelOut,
         entries: &[u32],
         owners: &[u32],
+        lane_of: &[u32],
         inp: &DensityIn
     )
 }
@@ -362,6 +415,87 @@ on_isa! {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::Morris;
+
+    /// The kernel pass's pieces write each pair's (dW/dq)/q into both its
+    /// window lanes, the value the pair loop computes for the pair, and
+    /// nothing else, on every instruction set; W as the pair loop does.
+    #[test]
+    fn each_pairs_gradient_goes_to_both_its_lanes() {
+        let n = 50;
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 4.0).collect();
+        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 4.0).collect();
+        // 150 pairs (two blocks and a part), the lanes a permutation of
+        // 300 of a table of 320, so 20 lanes are never written.
+        let m = 150;
+        let entries: Vec<u32> = (0..m)
+            .map(|p| Entry::pack((p * 7 + 3) % n, (p % 3) as i8 - 1))
+            .collect();
+        let owners: Vec<u32> = (0..m as u32).map(|p| p % n as u32).collect();
+        let lane_of: Vec<u32> = (0..2 * m as u32).map(|k| (k * 37 + 5) % 300).collect();
+        // Only inv_h2 matters to the kernel pass.
+        let prm = Params {
+            inv_h2: 0.5,
+            mass_over_h2: 1.0,
+            mass: 1.0,
+            rho0: 1.0,
+            b_eos: 1.0,
+            gamma: 1.0,
+            allow_negative: false,
+            symmetric: false,
+            grad_scale: 1.0,
+            av: 0.0,
+            has_av: false,
+            visc: 1.0,
+            body: 0.0,
+            mirror_walls: false,
+            b: 1.0,
+            beta_max: 1.0,
+        };
+        let list = NeighbourList::default();
+        let inp = DensityIn {
+            x: &x,
+            y: &y,
+            list: &list,
+            width: 4.0,
+            prm: &prm,
+            nf: n,
+        };
+        let mut isas = vec![Isa::Base, Isa::detect()];
+        #[cfg(target_arch = "x86_64")]
+        if Isa::detect() == Isa::Avx512 {
+            isas.push(Isa::Avx2);
+        }
+        let (mut w_want, mut g_want) = (vec![0.0; m], vec![0.0; m]);
+        let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
+        let xs = (&x[..], &y[..]);
+        let out = (&mut w_want[..], &mut g_want[..]);
+        pair_kernel_on::<Morris>(Isa::Base, &entries, &owners, xs, 4.0, 0.5, out, scratch);
+        assert!(
+            g_want.iter().filter(|&&g| g != 0.0).count() > 20,
+            "pairs in reach"
+        );
+        for isa in isas {
+            let mut w = vec![0.0; m];
+            let mut table = vec![0.0; 320];
+            kernel_chunk_on::<Morris>(
+                isa,
+                (&mut w, as_atomic(&mut table)),
+                &entries,
+                &owners,
+                &lane_of,
+                &inp,
+            );
+            let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&w), bits(&w_want), "{isa:?}");
+            let mut want = vec![0.0; 320];
+            for (p, &g) in g_want.iter().enumerate() {
+                want[lane_of[2 * p] as usize] = g;
+                want[lane_of[2 * p + 1] as usize] = g;
+            }
+            assert_eq!(bits(&table), bits(&want), "{isa:?}");
+        }
+    }
 
     /// The slots of a particle's first groups name consecutive places in
     /// the pair table (its own entries): [`pair_gather`] loads those as

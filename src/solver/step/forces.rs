@@ -69,8 +69,9 @@ pub(super) struct ForceArgs<'a> {
     pub i: usize,
     /// Its list as windows of consecutive indices.
     pub windows: &'a [Window],
-    /// The (dW/dq)/q the windows' sources point into.
-    pub pair_g: &'a [f64],
+    /// The windows' lanes' (dW/dq)/q, LANES a window (0 in a lane not
+    /// listed).
+    pub lane_g: &'a [f64],
     /// Positions (x, y).
     pub xs: (&'a [f64], &'a [f64]),
     /// Velocities (vx, vy) predicted at the step's end.
@@ -95,19 +96,19 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
-/// loop over its windows ([`Window`]), each window's particle values loaded
-/// as contiguous vectors and only its (dW/dq)/q gathered, each lane's term
+/// loop over its windows ([`Window`]), each window's particle values and
+/// (dW/dq)/q loaded as contiguous vectors (no gather), each lane's term
 /// added into its lane's accumulator, without branches or bounds checks in
-/// the lanes. A lane not listed reads the pair table's zero place, g = 0,
-/// and adds 0: its terms are finite for a finite state (the artificial
-/// viscosity's r^2 has a floor). A state that is not finite fails the run
-/// at this step anyway ([`Forces::finite`]).
+/// the lanes. A lane not listed has g = 0 and adds 0: its terms are finite
+/// for a finite state (the artificial viscosity's r^2 has a floor). A
+/// state that is not finite fails the run at this step anyway
+/// ([`Forces::finite`]).
 #[inline(always)]
 pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -> (f64, f64) {
     let ForceArgs {
         i,
         windows,
-        pair_g,
+        lane_g,
         xs,
         vs,
         pq,
@@ -121,19 +122,18 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
     let n = x.len();
     assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
     assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
-    assert!(!pair_g.is_empty());
-    let last_g = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
+    assert!(lane_g.len() == windows.len() * LANES);
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
     let beta_cap = sc.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
-    for win in windows {
+    for (win, g) in windows.iter().zip(lane_g.chunks_exact(LANES)) {
         let start = win.start as usize;
         let (xw, yw) = (lanes(x, start), lanes(y, start));
         let (vxw, vyw) = (lanes(vpx, start), lanes(vpy, start));
         let (pqw, volw) = (lanes(pq, start), lanes(vol, start));
         let depthw = if MIRROR { lanes(depth, start) } else { xw };
-        let g: [f64; LANES] = std::array::from_fn(|l| pair_g[win.sources[l].min(last_g) as usize]);
+        let g: &[f64; LANES] = g.try_into().expect("whole windows");
         // A window whose every lane has g = 0 (its pairs out of the
         // kernel's support this step: listed for the skin, or at R h
         // exactly; on a square lattice at h = d a row or two of every
@@ -185,7 +185,8 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
 }
 
 /// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
-/// listed pairs with the (dW/dq)/q that [`super::density::density`] left (0 out of reach).
+/// listed pairs with the (dW/dq)/q that [`super::density::kernel_pass`]
+/// left in the window lanes (0 out of reach).
 ///
 /// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
 ///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
@@ -226,6 +227,11 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
     half_dt: f64,
     isa: Isa,
 ) -> Forces {
+    assert_eq!(
+        s.lane_g_of,
+        list.generation(),
+        "the kernel pass ran on this list"
+    );
     let nf = s.n_fluid;
     let n = s.x.len();
     let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
@@ -244,7 +250,7 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
         vol,
         depth,
         pq,
-        pair_g: &s.pair_g,
+        lane_g: &s.lane_g,
         list,
         width: list.width(),
         prm,
@@ -273,7 +279,8 @@ pub(super) struct ForcesIn<'a> {
     depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
     pq: &'a [f64],
-    pair_g: &'a [f64],
+    /// (dW/dq)/q of every window lane.
+    lane_g: &'a [f64],
     list: &'a NeighbourList,
     width: f64,
     prm: &'a Params,
@@ -326,10 +333,12 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
             inv_gap: inv_gap[k],
             beta_max: prm.beta_max,
         };
+        let windows = inp.list.windows(i);
+        let first = inp.list.window_start(i) * LANES;
         let args = ForceArgs {
             i,
-            windows: inp.list.windows(i),
-            pair_g: inp.pair_g,
+            windows,
+            lane_g: &inp.lane_g[first..first + windows.len() * LANES],
             xs: (inp.x, inp.y),
             vs: (inp.vpx, inp.vpy),
             pq: inp.pq,
@@ -385,12 +394,14 @@ mod tests {
     use crate::solver::neighbours::Entry;
 
     /// Positions, velocities and windows over 200 particles for the pair
-    /// loops' tests.
+    /// loops' tests, and where each window lane's pair is in a table of 40
+    /// (dW/dq)/q.
     struct Fixture {
         x: Vec<f64>,
         y: Vec<f64>,
         v: Vec<f64>,
         windows: Vec<Window>,
+        sources: Vec<[u32; LANES]>,
         width: f64,
     }
 
@@ -399,30 +410,50 @@ mod tests {
             let n = 200;
             // Windows over the particles: starts anywhere (the last one at
             // the end of the arrays), some lanes listed, every image.
-            let windows = (0..6u32)
+            let (windows, sources) = (0..6u32)
                 .map(|k| {
                     let start = if k == 5 { n as u32 - 8 } else { k * 31 % 150 };
                     let mask = [0xff, 0x5a, 0x01, 0x80, 0x3c, 0xe7][k as usize];
-                    let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 41);
+                    let src: [u32; 8] = std::array::from_fn(|l| (k * 8 + l as u32) % 40);
                     let images: [u32; 8] = std::array::from_fn(|l| (k + l as u32) % 3);
-                    Window::new(start, mask, images, src)
+                    (Window::new(start, mask, images), src)
                 })
-                .collect();
+                .unzip();
             Fixture {
                 x: (0..n).map(|i| (i as f64 * 0.618).fract() * 7.0).collect(),
                 y: (0..n).map(|i| (i as f64 * 0.377).fract() * 7.0).collect(),
                 v: (0..n).map(|i| (i as f64 * 0.123).sin()).collect(),
                 windows,
+                sources,
                 width: 7.0,
             }
         }
 
-        /// Particle 0's force inputs, its y as the walls' depths (>= 0).
-        fn args<'a>(&'a self, pair_g: &'a [f64], sc: Scales) -> ForceArgs<'a> {
+        /// The windows' lanes' (dW/dq)/q from the table `pg`, as the
+        /// kernel pass leaves them: 0 in a lane not listed.
+        fn lane_g(&self, pg: &[f64]) -> Vec<f64> {
+            self.windows
+                .iter()
+                .zip(&self.sources)
+                .flat_map(|(w, src)| {
+                    (0..LANES).map(move |l| {
+                        if w.mask() & (1 << l) != 0 {
+                            pg[src[l] as usize]
+                        } else {
+                            0.0
+                        }
+                    })
+                })
+                .collect()
+        }
+
+        /// Particle 0's force inputs with the lanes' (dW/dq)/q `lane_g`,
+        /// its y as the walls' depths (>= 0).
+        fn args<'a>(&'a self, lane_g: &'a [f64], sc: Scales) -> ForceArgs<'a> {
             ForceArgs {
                 i: 0,
                 windows: &self.windows[..],
-                pair_g,
+                lane_g,
                 xs: (&self.x[..], &self.y[..]),
                 vs: (&self.v[..], &self.v[..]),
                 pq: &self.v[..],
@@ -470,7 +501,8 @@ mod tests {
             let out = (&mut w[..40], &mut pg[..40]);
             pair_kernel_on::<Morris>(isa, &entries, &owners, xs, f.width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, (0, 0), &w);
-            let force = pair_forces_on::<true, true>(isa, f.args(&pg, scales(0.9, 3.0)));
+            let lane_g = f.lane_g(&pg);
+            let force = pair_forces_on::<true, true>(isa, f.args(&lane_g, scales(0.9, 3.0)));
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), force.0.to_bits(), force.1.to_bits()]);
             bits
@@ -497,17 +529,20 @@ mod tests {
         let pg: Vec<f64> = (0..41)
             .map(|s| if s < 40 { (s as f64 * 0.37).sin() } else { 0.0 })
             .collect();
-        let zero = Window::new(60, 0xff, [1; LANES], [40; LANES]);
-        let mut one = [40; LANES];
-        one[3] = 7;
-        let live = Window::new(60, 0xff, [1; LANES], one);
+        let lane_g = f.lane_g(&pg);
+        let extra = Window::new(60, 0xff, [1; LANES]);
+        let mut one = [0.0; LANES];
+        one[3] = pg[7];
         let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
-        let with = |extra: Window| {
+        // The fixture's windows with `extra` third, its lanes' g `g`.
+        let with = |g: [f64; LANES]| {
             let mut w = f.windows.clone();
             w.insert(2, extra);
-            w
+            let mut lg = lane_g.clone();
+            lg.splice(2 * LANES..2 * LANES, g);
+            (w, lg)
         };
-        let (with_zero, with_live) = (with(zero), with(live));
+        let (with_zero, with_live) = (with([0.0; LANES]), with(one));
         let mut isas = vec![Isa::Base, Isa::detect()];
         #[cfg(target_arch = "x86_64")]
         if Isa::detect() == Isa::Avx512 {
@@ -515,19 +550,19 @@ mod tests {
         }
         for isa in isas {
             let sc = scales(0.9, 3.0);
-            let run = |windows: &[Window]| {
+            let run = |(windows, lane_g): (&[Window], &[f64])| {
                 let args = ForceArgs {
                     windows,
-                    ..f.args(&pg, sc)
+                    ..f.args(lane_g, sc)
                 };
                 [
                     bits(pair_forces_on::<false, false>(isa, args)),
                     bits(pair_forces_on::<true, true>(isa, args)),
                 ]
             };
-            let base = run(&f.windows);
-            assert_eq!(run(&with_zero), base, "{isa:?}");
-            let changed = run(&with_live);
+            let base = run((&f.windows, &lane_g));
+            assert_eq!(run((&with_zero.0, &with_zero.1)), base, "{isa:?}");
+            let changed = run((&with_live.0, &with_live.1));
             assert!(changed.iter().zip(&base).all(|(c, b)| c != b), "{isa:?}");
         }
     }
@@ -543,6 +578,7 @@ mod tests {
         let pg: Vec<f64> = (0..41)
             .map(|s| if s < 40 { (s as f64 * 0.37).sin() } else { 0.0 })
             .collect();
+        let lg = f.lane_g(&pg);
         let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
         let mut isas = vec![Isa::Base, Isa::detect()];
         #[cfg(target_arch = "x86_64")]
@@ -552,12 +588,12 @@ mod tests {
         for isa in isas {
             for beta_max in [1.0, 3.0] {
                 let without =
-                    pair_forces_on::<false, false>(isa, f.args(&pg, scales(0.9, beta_max)));
+                    pair_forces_on::<false, false>(isa, f.args(&lg, scales(0.9, beta_max)));
                 let at_zero =
-                    pair_forces_on::<false, true>(isa, f.args(&pg, scales(0.0, beta_max)));
+                    pair_forces_on::<false, true>(isa, f.args(&lg, scales(0.0, beta_max)));
                 assert_eq!(bits(at_zero), bits(without), "{isa:?}, beta_max {beta_max}");
                 let mirrored =
-                    pair_forces_on::<false, true>(isa, f.args(&pg, scales(0.9, beta_max)));
+                    pair_forces_on::<false, true>(isa, f.args(&lg, scales(0.9, beta_max)));
                 assert_eq!(
                     bits(mirrored) == bits(without),
                     beta_max == 1.0,

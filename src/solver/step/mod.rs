@@ -9,9 +9,11 @@
 /// Defines `$on(isa, args..)`: `$inner(args..)` compiled for the instruction
 /// set `isa` (AVX-512, AVX2 or the baseline), each a `#[target_feature]`
 /// copy of the same `#[inline(always)]` body, so the results are the same
-/// bits on every CPU. The one place the passes meet `unsafe`: calling a
-/// target-feature function is sound because [`Isa::detect`] found the
-/// features before any `Isa` other than `Base` exists.
+/// bits on every CPU. One of the two places the passes meet `unsafe`:
+/// calling a target-feature function is sound because [`Isa::detect`] found
+/// the features before any `Isa` other than `Base` exists. (The other: the
+/// kernel pass views its window-lane table as atomics, `density::as_atomic`,
+/// so that its tasks can store into it at once.)
 macro_rules! on_isa {
     (
         $(#[$attr:meta])*

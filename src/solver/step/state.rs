@@ -32,17 +32,22 @@ pub(crate) struct State {
     /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
     /// for the walls (which never move), 0 for the fluid. For mirrored walls.
     pub depth: Vec<f64>,
-    /// What the density pass leaves for the force pass: W and (dW/dq)/q of
-    /// every listed pair (0 beyond the support), evaluated once per pair
-    /// and step, in the pair table's place of the own entry it was
-    /// evaluated for ([`NeighbourList::own_stream`], `pair_slots` of them),
-    /// and after them a place kept at zero for padding; each entry finds its
-    /// pair's through [`NeighbourList::sources_padded`] (and each lane of a
-    /// [`crate::solver::neighbours::Window`] through its sources). The force
-    /// pass has no distance test and no kernel.
+    /// What the kernel pass leaves for the density sums: W of every listed
+    /// pair (0 beyond the support), evaluated once per pair and step, in
+    /// the pair table's place of the own entry it was evaluated for
+    /// ([`NeighbourList::own_stream`], `pair_slots` of them), and after
+    /// them a place kept at zero for padding; each entry finds its pair's
+    /// through [`NeighbourList::sources_padded`].
     pub pair_w: Vec<f64>,
-    pub pair_g: Vec<f64>,
     pub pair_slots: usize,
+    /// What it leaves for the force pass: (dW/dq)/q of every pair in both
+    /// window lanes that list it, LANES per
+    /// [`crate::solver::neighbours::Window`] in the list's order
+    /// ([`NeighbourList::lanes_of_pairs`]), 0 in a lane not listed; for
+    /// the list build `lane_g_of` ([`NeighbourList::generation`]). The
+    /// force pass has no distance test and no kernel.
+    pub lane_g: Vec<f64>,
+    pub lane_g_of: u64,
 }
 
 impl State {
@@ -96,7 +101,8 @@ impl State {
             layer,
             pair_slots: usize::MAX,
             pair_w: Vec::new(),
-            pair_g: Vec::new(),
+            lane_g: Vec::new(),
+            lane_g_of: u64::MAX,
         }
     }
 
@@ -122,7 +128,7 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        (f64s + self.pair_w.capacity() + self.pair_g.capacity()) * size_of::<f64>()
+        (f64s + self.pair_w.capacity() + self.lane_g.capacity()) * size_of::<f64>()
             + self.layer.capacity() * size_of::<u32>()
     }
 
