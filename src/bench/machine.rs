@@ -18,14 +18,17 @@ pub struct Machine {
     /// The vector instructions of the pair loops (chosen at run time), and
     /// the double-precision flops per cycle and core they allow: lanes x 2
     /// (two FP ports on current x86 cores), no FMA (Rust never fuses a * b +
-    /// c, and the solver writes no mul_add).
+    /// c, and the solver writes no mul_add). On AMD's Zen 4, which runs a
+    /// 512-bit operation on 256-bit pipes, the same 16 for AVX-512: 4 lanes
+    /// x 4 pipes (two multiply, two add).
     pub isa_in_use: String,
     pub flops_per_cycle_in_use: f64,
     /// cores x GHz x flops/cycle for the instruction set in use.
     pub peak_gflops_in_use: f64,
     /// The widest vector unit the CPU has (from /proc/cpuinfo flags) with
     /// FMA: lanes x 2 ports x 2 (the usual quoted peak, e.g. AVX2 FMA 16,
-    /// AVX-512 FMA 32 DP flops/cycle).
+    /// AVX-512 FMA 32 DP flops/cycle; 16 on Zen 4, whose AVX-512 runs on
+    /// 256-bit pipes).
     pub isa_best: &'static str,
     pub flops_per_cycle_best: f64,
     pub peak_gflops_best: f64,
@@ -35,9 +38,20 @@ pub struct Machine {
     pub stream_gbs_all: f64,
 }
 
+/// Whether the CPU runs 512-bit operations on 256-bit pipes, two passes
+/// each: AMD's Zen 4 (family 25 with AVX-512; Zen 5, family 26, has full
+/// 512-bit pipes), from /proc/cpuinfo's `vendor_id` and `cpu family`.
+fn half_width_avx512(vendor: &str, family: Option<u32>, avx512: bool) -> bool {
+    avx512 && vendor == "AuthenticAMD" && family == Some(25)
+}
+
 /// (name, flops per cycle and core) of the CPU's widest unit, with FMA.
-fn best_isa(avx512: bool, avx: bool, fma: bool) -> (&'static str, f64) {
+fn best_isa(avx512: bool, avx: bool, fma: bool, half_width: bool) -> (&'static str, f64) {
     match (avx512, avx, fma) {
+        (true, _, _) if half_width => (
+            "AVX-512 + FMA on 256-bit pipes (Zen 4: 4 lanes x 2 FMA pipes x 2)",
+            16.0,
+        ),
         (true, _, _) => ("AVX-512 + FMA (8 lanes x 2 FMA ports x 2)", 32.0),
         (false, true, true) => ("AVX2 + FMA (4 lanes x 2 FMA ports x 2)", 16.0),
         (false, true, false) => ("AVX (4 lanes x add + mul ports)", 8.0),
@@ -62,10 +76,17 @@ impl Machine {
         let ghz = if mhz > 0.0 { mhz / 1000.0 } else { f64::NAN };
         let flags = field("flags").into_iter().next().unwrap_or_default();
         let has = |f: &str| flags.split_whitespace().any(|x| x == f);
+        let vendor = field("vendor_id").into_iter().next().unwrap_or_default();
+        let family = field("cpu family").first().and_then(|f| f.parse().ok());
+        let half_width = half_width_avx512(&vendor, family, has("avx512f"));
         let (name, lanes) = solver::pair_loop_isa();
         let in_use = 2.0 * f64::from(lanes);
-        let isa_in_use = format!("{name} ({lanes} lanes x 2 ports, no FMA)");
-        let (isa_best, best) = best_isa(has("avx512f"), has("avx"), has("fma"));
+        let isa_in_use = if half_width && lanes == 8 {
+            format!("{name} on 256-bit pipes (4 lanes x 2 multiply + 2 add pipes, no FMA)")
+        } else {
+            format!("{name} ({lanes} lanes x 2 ports, no FMA)")
+        };
+        let (isa_best, best) = best_isa(has("avx512f"), has("avx"), has("fma"), half_width);
         let cores = cores();
         let peak = |f: f64| cores as f64 * ghz * f;
         Machine {
@@ -143,4 +164,25 @@ pub fn stream_gbs(threads: usize) -> anyhow::Result<f64> {
         }
         (3 * 8 * STREAM_LEN) as f64 / best * 1e-9
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Zen 4 runs AVX-512 on 256-bit pipes: its FMA peak is AVX2's, not
+    /// twice it; Intel's AVX-512 cores and Zen 5 have full-width pipes.
+    #[test]
+    fn zen_4_avx512_peaks_at_the_width_of_its_pipes() {
+        let zen4 = half_width_avx512("AuthenticAMD", Some(25), true);
+        assert!(zen4);
+        assert_eq!(best_isa(true, true, true, zen4).1, 16.0);
+        for (vendor, family) in [("GenuineIntel", Some(6)), ("AuthenticAMD", Some(26))] {
+            let half = half_width_avx512(vendor, family, true);
+            assert!(!half, "{vendor} {family:?}");
+            assert_eq!(best_isa(true, true, true, half).1, 32.0);
+        }
+        assert!(!half_width_avx512("AuthenticAMD", Some(25), false));
+        assert_eq!(best_isa(false, true, true, false).1, 16.0);
+    }
 }
