@@ -339,6 +339,38 @@ fn set(scene: &mut Scene, field: &str, v: f64) {
     }
 }
 
+/// Two inputs the property below once found: a c0 or a t_end that the
+/// scene did not give (a rule's c0, t_end from the decay) is not blamed
+/// for what its inputs made of it; the field that made it is named.
+#[test]
+fn a_derived_c0_or_t_end_blames_the_field_it_came_from() {
+    let cases: [(&[(&str, f64)], &str); 3] = [
+        (
+            &[
+                ("rho0", 9.999999999999998e-77),
+                ("u", 9.999999999999997e-116),
+            ],
+            "u",
+        ),
+        (&[("p", 8.9383870817114e-265), ("c0", 1e43)], "p"),
+        (&[("rho0", 1e-200), ("u", 1e-60)], "rho0"),
+    ];
+    for (fields, blamed) in cases {
+        let mut scene = Scene::builtin();
+        for &(f, v) in fields {
+            set(&mut scene, f, v);
+        }
+        let msg = Problem::resolve(&scene, scene.kernel_info().unwrap())
+            .err()
+            .unwrap_or_else(|| panic!("{fields:?} should not resolve"))
+            .to_string();
+        assert!(
+            msg.contains(&format!("invalid `{blamed}`")),
+            "{fields:?}: {msg}"
+        );
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
 

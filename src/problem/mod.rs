@@ -104,9 +104,16 @@ impl Problem {
             }
         })?;
         let est = cost::Estimate::new(&channel, c0, t_end);
-        let dt_in = with(&flow_in, &[("h_over_d", scene.h_over_d), ("c0", c0)]);
+        let c0_in = c0_inputs(scene, c0, &flow_in);
+        let dt_in = with(&with(&flow_in, &[("h_over_d", scene.h_over_d)]), &c0_in);
         derived("the time step dt", est.time_step.dt, &dt_in)?;
-        let step_in = with(&dt_in, &[("t_end", t_end)]);
+        // t_end and the output interval are inputs where the scene gives
+        // them; derived (from the flow, decay_tol and t_end), their inputs
+        // are already listed and take the blame.
+        let step_in = match scene.t_end {
+            Some(_) => with(&dt_in, &[("t_end", t_end)]),
+            None => with(&dt_in, &[("decay_tol", scene.decay_tol)]),
+        };
         derived("the step count t_end / dt", est.steps, &step_in)?;
         positive("max_run_s", scene.max_run_s)?;
         cost::check_run_time(
@@ -124,11 +131,11 @@ impl Problem {
             }
             None => t_end / 20.0,
         };
-        derived(
-            "the output interval",
-            output_interval,
-            &with(&step_in, &[("output_interval", output_interval)]),
-        )?;
+        let interval_in = match scene.output_interval {
+            Some(_) => with(&step_in, &[("output_interval", output_interval)]),
+            None => step_in.clone(),
+        };
+        derived("the output interval", output_interval, &interval_in)?;
         cost::check_memory(&channel, info.support, scene.skin, t_end, output_interval)?;
         let Channel {
             lattice,
@@ -145,7 +152,10 @@ impl Problem {
             mu,
             &with(&flow_in, &[("rho0", scene.rho0)]),
         )?;
-        let rho_in = [("rho0", scene.rho0), ("c0", c0), ("gamma", scene.gamma)];
+        let rho_in = with(
+            &with(&[("rho0", scene.rho0)], &c0_in),
+            &[("gamma", scene.gamma)],
+        );
         let rho0 = scene.rho0;
         derived("the pressure scale c0^2 rho0", c0 * c0 * rho0, &rho_in)?;
         derived("1 / rho0^2 (of P / rho^2)", 1.0 / (rho0 * rho0), &rho_in)?;
@@ -156,7 +166,7 @@ impl Problem {
         derived(
             "the speed limit 10 U + c0",
             v_limit,
-            &[("u", scene.u), ("c0", c0)],
+            &with(&[("u", scene.u)], &c0_in),
         )?;
         let viscous_scale = match scene.viscous_normalisation {
             ViscousNormalisation::None => 1.0,
@@ -266,12 +276,30 @@ fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &Lattice) -> f64 {
     kernels::with_kernel(info.name, Sum(lattice)).unwrap_or(f64::NAN)
 }
 
-/// `a` and then `b`: the inputs of a quantity derived from others.
+/// `a` and then those of `b` not in it: the inputs of a quantity derived
+/// from others.
 pub(crate) fn with(
     a: &[(&'static str, f64)],
     b: &[(&'static str, f64)],
 ) -> Vec<(&'static str, f64)> {
-    a.iter().chain(b).copied().collect()
+    let mut v = a.to_vec();
+    v.extend(b.iter().filter(|(f, _)| !a.iter().any(|(g, _)| g == f)));
+    v
+}
+
+/// c0 as the inputs of a quantity derived from it: c0 itself when the
+/// scene gives its value; when a rule gives it, what the scene gave: U
+/// (every rule scales c0 with it), Re or p (the derived rules depend on
+/// them; of the flow's inputs `flow_in`, all but d), and the rule's factor
+/// if not 1 (named `c0`, the field that holds it). So an extreme c0 is
+/// blamed on the field that made it.
+fn c0_inputs(scene: &Scene, c0: f64, flow_in: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
+    let flow = || flow_in.iter().filter(|(f, _)| *f != "d").copied();
+    match scene.c0 {
+        C0Spec::Value(_) => vec![("c0", c0)],
+        C0Spec::Rule { factor, .. } if factor != 1.0 => flow().chain([("c0", factor)]).collect(),
+        C0Spec::Rule { .. } => flow().collect(),
+    }
 }
 
 /// Err unless the derived quantity `name` is a finite positive number. The
