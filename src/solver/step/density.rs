@@ -416,6 +416,7 @@ on_isa! {
 mod tests {
     use super::*;
     use crate::kernels::Morris;
+    use crate::solver::step::isa::every_isa;
 
     /// The kernel pass's pieces write each pair's (dW/dq)/q into both its
     /// window lanes, the value the pair loop computes for the pair, and
@@ -461,11 +462,7 @@ mod tests {
             prm: &prm,
             nf: n,
         };
-        let mut isas = vec![Isa::Base, Isa::detect()];
-        #[cfg(target_arch = "x86_64")]
-        if Isa::detect() == Isa::Avx512 {
-            isas.push(Isa::Avx2);
-        }
+        let isas = every_isa();
         let (mut w_want, mut g_want) = (vec![0.0; m], vec![0.0; m]);
         let scratch = &mut ([0.0; BLOCK], [0.0; BLOCK]);
         let xs = (&x[..], &y[..]);
@@ -521,11 +518,7 @@ mod tests {
                 _ => 60,
             })
             .collect();
-        let mut isas = vec![Isa::Base, Isa::detect()];
-        #[cfg(target_arch = "x86_64")]
-        if Isa::detect() == Isa::Avx512 {
-            isas.push(Isa::Avx2);
-        }
+        let isas = every_isa();
         let gathered = pair_gather_on(Isa::Base, &sources, (0, 0), &w).to_bits();
         for isa in isas {
             for whole in 0..=2 {

@@ -388,7 +388,7 @@ on_isa! {
 #[cfg(test)]
 mod tests {
     use super::super::density::{pair_gather_on, pair_kernel_on};
-    use super::super::isa::BLOCK;
+    use super::super::isa::{every_isa, BLOCK};
     use super::*;
     use crate::kernels::Morris;
     use crate::solver::neighbours::Entry;
@@ -543,11 +543,7 @@ mod tests {
             (w, lg)
         };
         let (with_zero, with_live) = (with([0.0; LANES]), with(one));
-        let mut isas = vec![Isa::Base, Isa::detect()];
-        #[cfg(target_arch = "x86_64")]
-        if Isa::detect() == Isa::Avx512 {
-            isas.push(Isa::Avx2);
-        }
+        let isas = every_isa();
         for isa in isas {
             let sc = scales(0.9, 3.0);
             let run = |(windows, lane_g): (&[Window], &[f64])| {
@@ -580,11 +576,7 @@ mod tests {
             .collect();
         let lg = f.lane_g(&pg);
         let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
-        let mut isas = vec![Isa::Base, Isa::detect()];
-        #[cfg(target_arch = "x86_64")]
-        if Isa::detect() == Isa::Avx512 {
-            isas.push(Isa::Avx2);
-        }
+        let isas = every_isa();
         for isa in isas {
             for beta_max in [1.0, 3.0] {
                 let without =

@@ -29,6 +29,18 @@ pub(crate) enum Isa {
     Base,
 }
 
+/// Every instruction set this CPU runs (the baseline, the one detected,
+/// and AVX2 under AVX-512), for the tests that compare their bits.
+#[cfg(test)]
+pub(super) fn every_isa() -> Vec<Isa> {
+    let mut isas = vec![Isa::Base, Isa::detect()];
+    #[cfg(target_arch = "x86_64")]
+    if Isa::detect() == Isa::Avx512 {
+        isas.push(Isa::Avx2);
+    }
+    isas
+}
+
 impl Isa {
     /// Name and f64 lanes per vector register.
     pub(crate) fn describe(self) -> (&'static str, u32) {
