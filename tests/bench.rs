@@ -86,9 +86,13 @@ fn bench_json_has_every_figure() {
             "forces_ns_per_lane",
             "forces_lane_bound_ns",
             "lane_use",
+            "core_ns_per_particle_step",
+            "floor_core_ns_per_particle_step",
+            "floor_kernel_share",
         ] {
             positive(row, key);
         }
+        assert!(row["floor_kernel_share"].as_f64().unwrap() < 1.0, "{row}");
         // the passes one by one: each timed, together within the steps
         let shares: Vec<f64> = row["pass_share"]
             .as_array()

@@ -211,6 +211,18 @@ pub struct Row {
     pub forces_ns_per_lane: f64,
     pub forces_lane_bound_ns: f64,
     pub lane_use: f64,
+    /// The step's core-nanoseconds per particle (its wall time x the cores
+    /// used / particles), and the least the two pair passes' own arithmetic
+    /// allows as the solver runs them: every own pair's kernel at the
+    /// kernel-alone rate plus every force-pass lane at its flop bound, per
+    /// particle (the density sums, the kick and memory left out; at the
+    /// clock /proc/cpuinfo gives, which a boosting core may beat). What the
+    /// step spends above it is memory, gathers and the loops' overheads;
+    /// what the floor is made of is the work's form itself.
+    pub core_ns_per_particle_step: f64,
+    pub floor_core_ns_per_particle_step: f64,
+    /// The kernel's part of that floor (the rest is the force pass's).
+    pub floor_kernel_share: f64,
     /// Particle arrays and neighbour structure, per particle.
     pub bytes_per_particle: f64,
     pub arrays_bytes: usize,
@@ -362,6 +374,10 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     r.pass_s[pass] * cores_used / (per_step as f64 * taken) * 1e9
                 };
                 let force_flops = f64::from(solver::force_flops_per_pair(&problem));
+                let forces_lane_bound_ns =
+                    force_flops / (machine.flops_per_cycle_in_use * machine.ghz);
+                let floor_kernel = r.own_pairs as f64 * kernel_alone_ns;
+                let floor_forces = r.fluid_window_lanes as f64 * forces_lane_bound_ns;
                 rows.push(Row {
                     kernel: kernel.clone(),
                     target_particles: target,
@@ -399,9 +415,12 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     kernel_pass_ns: core_ns_per(0, r.own_pairs),
                     kernel_alone_ns,
                     forces_ns_per_lane: core_ns_per(2, r.fluid_window_lanes),
-                    forces_lane_bound_ns: force_flops
-                        / (machine.flops_per_cycle_in_use * machine.ghz),
+                    forces_lane_bound_ns,
                     lane_use: r.fluid_listed_lanes as f64 / r.fluid_window_lanes as f64,
+                    core_ns_per_particle_step: per_step * cores_used / particles as f64 * 1e9,
+                    floor_core_ns_per_particle_step: (floor_kernel + floor_forces)
+                        / particles as f64,
+                    floor_kernel_share: floor_kernel / (floor_kernel + floor_forces),
                     bytes_per_particle: r.bytes as f64 / particles as f64,
                     arrays_bytes: r.bytes,
                     vm_hwm_bytes: vm_hwm_bytes(),

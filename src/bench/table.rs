@@ -147,6 +147,28 @@ pub fn table(r: &Report) -> String {
             row.neighbour_rebuilds,
         ));
     }
+    out.push_str(
+        "\nthe floor the work's form sets (each own pair's kernel at the kernel-alone rate, each \
+         force-pass lane at\nits flop bound, per particle; memory, gathers, the density sums and \
+         the kick left out) against the\nstep's core-ns per particle, and the kernel's share of \
+         the floor:\n",
+    );
+    out.push_str(&format!(
+        "{:<10} {:>8} {:>3} {:>10} {:>8} {:>5} {:>7}\n",
+        "kernel", "particles", "thr", "core-ns/ps", "floor", "x", "kern%"
+    ));
+    for row in &r.rows {
+        out.push_str(&format!(
+            "{:<10} {:>8} {:>3} {:>10.1} {:>8.1} {:>5.2} {:>7.1}\n",
+            row.kernel,
+            row.particles,
+            row.threads,
+            row.core_ns_per_particle_step,
+            row.floor_core_ns_per_particle_step,
+            row.core_ns_per_particle_step / row.floor_core_ns_per_particle_step,
+            100.0 * row.floor_kernel_share,
+        ));
+    }
     if !r.scaling.is_empty() {
         out.push_str("\ncost per step ~ particles^k (least squares over the counts above):\n");
         for s in &r.scaling {
