@@ -211,9 +211,9 @@ impl<'a> DensityIn<'a> {
     }
 }
 
-/// Pairs per task of the kernel pass: a few hundred particles' own pairs,
-/// whole blocks.
-const STREAM_CHUNK: usize = 32 * BLOCK;
+/// Pairs per task of the kernel pass: whole blocks, 2048 pairs (about a
+/// hundred particles' own pairs at R = 3 h).
+const STREAM_CHUNK: usize = 16 * BLOCK;
 
 /// One task's outputs of the kernel pass: its W slots, and the window-lane
 /// table of (dW/dq)/q ([`NeighbourList::lanes_of_pairs`]).
@@ -426,14 +426,18 @@ mod tests {
         let n = 50;
         let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 4.0).collect();
         let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 4.0).collect();
-        // 150 pairs (two blocks and a part), the lanes a permutation of
-        // 300 of a table of 320, so 20 lanes are never written.
-        let m = 150;
+        // Two blocks and a part of pairs, the lanes a permutation of 2m of
+        // a table of 2m + 20, so 20 lanes are never written.
+        let m = 2 * BLOCK + 22;
+        let table_len = 2 * m + 20;
         let entries: Vec<u32> = (0..m)
             .map(|p| Entry::pack((p * 7 + 3) % n, (p % 3) as i8 - 1))
             .collect();
         let owners: Vec<u32> = (0..m as u32).map(|p| p % n as u32).collect();
-        let lane_of: Vec<u32> = (0..2 * m as u32).map(|k| (k * 37 + 5) % 300).collect();
+        // 37 shares no factor with 2m = 4 (BLOCK + 11): a permutation.
+        let lane_of: Vec<u32> = (0..2 * m as u32)
+            .map(|k| (k * 37 + 5) % (2 * m as u32))
+            .collect();
         // Only inv_h2 matters to the kernel pass.
         let prm = Params {
             inv_h2: 0.5,
@@ -474,7 +478,7 @@ mod tests {
         );
         for isa in isas {
             let mut w = vec![0.0; m];
-            let mut table = vec![0.0; 320];
+            let mut table = vec![0.0; table_len];
             kernel_chunk_on::<Morris>(
                 isa,
                 (&mut w, as_atomic(&mut table)),
@@ -485,7 +489,7 @@ mod tests {
             );
             let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&w), bits(&w_want), "{isa:?}");
-            let mut want = vec![0.0; 320];
+            let mut want = vec![0.0; table_len];
             for (p, &g) in g_want.iter().enumerate() {
                 want[lane_of[2 * p] as usize] = g;
                 want[lane_of[2 * p + 1] as usize] = g;

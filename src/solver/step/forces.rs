@@ -482,7 +482,7 @@ mod tests {
     fn pair_loops_give_the_same_bits_on_every_isa() {
         let f = Fixture::new();
         let n = f.x.len();
-        // 37 neighbours (two whole blocks and a part) and padding.
+        // 37 neighbours (four whole lane groups and a part) and padding.
         let mut entries: Vec<u32> = (1..38)
             .map(|j| Entry::pack(j * 5 % n, (j % 3) as i8 - 1))
             .collect();
