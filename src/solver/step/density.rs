@@ -426,8 +426,8 @@ mod tests {
         let n = 50;
         let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.618).fract() * 4.0).collect();
         let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.377).fract() * 4.0).collect();
-        // Two blocks and a part of pairs, the lanes a permutation of 2m of
-        // a table of 2m + 20, so 20 lanes are never written.
+        // Two blocks and a part of pairs, their lanes a permutation of the
+        // first 2m of a table of 2m + 20, so 20 lanes are never written.
         let m = 2 * BLOCK + 22;
         let table_len = 2 * m + 20;
         let entries: Vec<u32> = (0..m)

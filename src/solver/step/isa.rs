@@ -8,11 +8,11 @@ use crate::solver::neighbours::LANES;
 /// kernel pass runs its distance, kernel and store loops block by block:
 /// 128 pairs rather than 64 ran the PySPH scene 1.07x faster on one thread
 /// on a Zen 3 (7 alternating rounds; 256 and 512 no faster again), morris
-/// 1.04-1.07x at every size of `bench`, the kernel loop's long latency
-/// chain (square root, division, two Horner sums) paid for over twice as
-/// many vectors; wendland_c2 3.6 % slower at 1e5-1e6 particles, the rest
-/// within the noise (bench/peers/README.md). The same bits: each pair's
-/// operations do not depend on where a block ends.
+/// 1.04-1.07x at every size of `bench` on one thread, the kernel loop's
+/// long latency chain (square root, division, two Horner sums) paid for
+/// over twice as many vectors; wendland_c2 3.6 % slower at 1e5-1e6
+/// particles, the rest within the noise (bench/peers/README.md). The same
+/// bits: each pair's operations do not depend on where a block ends.
 pub(super) const BLOCK: usize = 16 * LANES;
 
 /// Two buffers of a block's entries, made once per parallel task (zeroing
