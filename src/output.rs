@@ -314,12 +314,12 @@ pub fn write_outputs(set: &StagedSet, result: &RunResult) -> Result<()> {
 
 /// The layer profile of one sample.
 pub fn profile_csv(s: &Sample) -> String {
-    let mut out = String::from("layer,y,u,u_analytic,u_steady,v_rms\n");
+    let mut out = String::from("layer,y,u,u_analytic,u_steady,v_rms,count\n");
     for l in &s.profile {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{}",
-            l.layer, l.y, l.u, l.u_analytic, l.u_steady, l.v_rms
+            "{},{},{},{},{},{},{}",
+            l.layer, l.y, l.u, l.u_analytic, l.u_steady, l.v_rms, l.count
         );
     }
     out
@@ -327,11 +327,11 @@ pub fn profile_csv(s: &Sample) -> String {
 
 pub fn timeseries_csv(samples: &[Sample]) -> String {
     let mut out =
-        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy\n");
+        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n");
     for s in samples {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             s.t,
             s.step,
             s.dt,
@@ -340,7 +340,9 @@ pub fn timeseries_csv(samples: &[Sample]) -> String {
             s.max_eps,
             s.mean_eps,
             s.rms_v,
-            s.kinetic_energy
+            s.kinetic_energy,
+            s.eps_p99,
+            s.dy_rms
         );
     }
     out
