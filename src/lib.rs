@@ -17,11 +17,11 @@ pub mod kernels {
     include!("../generated/registry.rs");
 }
 pub mod analytic;
-pub mod answer;
 pub mod bench;
 pub mod charts;
 pub mod cli;
 pub mod config;
+pub mod empirical;
 pub mod format;
 pub mod law;
 pub mod output;

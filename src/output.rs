@@ -93,13 +93,51 @@ pub struct Summary {
     pub linf: f64,
     #[serde(rename = "l2_rel_err", alias = "l2", with = "nan_null")]
     pub l2: f64,
-    /// Largest L_inf error over the output times (what `inaccurate` is
-    /// judged by).
+    /// Largest L_inf error over the output times (a diagnostic: the class
+    /// judges the window's `linf_stat`).
     #[serde(rename = "linf_rel_err_max", alias = "linf_max", with = "nan_null")]
     pub linf_max: f64,
-    /// Largest fluid compaction over every step of the run.
+    /// Largest fluid compaction over every step of the run (a diagnostic:
+    /// the class judges the window's `eps_stat`).
     #[serde(with = "nan_null")]
     pub max_eps: f64,
+    /// The horizon (`fixed` or `stationary`), the window the run is judged
+    /// on (`window_from` < t <= `window_to`, `window_frames` frames) and
+    /// whether it passed the stationarity test (`unsteady`: why not).
+    pub horizon: crate::problem::horizon::HorizonKind,
+    #[serde(with = "nan_null")]
+    pub window_from: f64,
+    #[serde(with = "nan_null")]
+    pub window_to: f64,
+    pub window_frames: usize,
+    pub stationary: bool,
+    pub unsteady: Option<String>,
+    /// `ordered` or `disordered` (dy_rms at the window's end >= 0.1 d).
+    pub regime: crate::solver::Regime,
+    /// The window's compaction: mean of the per-frame 99th percentile of
+    /// eps (judged), mean of the per-frame largest, the largest.
+    #[serde(with = "nan_null")]
+    pub eps_stat: f64,
+    #[serde(with = "nan_null")]
+    pub eps_max_mean: f64,
+    #[serde(with = "nan_null")]
+    pub eps_max_window: f64,
+    /// The window's mean-flow error relative to U (judged), its RMS over
+    /// the bands, and the per-frame L_inf's mean.
+    #[serde(with = "nan_null")]
+    pub linf_stat: f64,
+    #[serde(with = "nan_null")]
+    pub l2_stat: f64,
+    #[serde(with = "nan_null")]
+    pub linf_frame_mean: f64,
+    /// The window's mean RMS transverse velocity, and dy_rms (in d) at its
+    /// end.
+    #[serde(with = "nan_null")]
+    pub rms_v_stat: f64,
+    #[serde(with = "nan_null")]
+    pub dy_rms: f64,
+    /// The first output time with dy_rms >= 0.1 d (none: stayed ordered).
+    pub t_disorder: Option<f64>,
     /// Mean fluid compaction at the end.
     #[serde(with = "nan_null")]
     pub mean_eps: f64,
@@ -122,8 +160,8 @@ pub struct Summary {
     /// Inaccurate above this L_inf error (relative to U) over the outputs.
     #[serde(with = "nan_null")]
     pub linf_bound: f64,
-    /// Over-compressed above this compaction (the kernel's eps0 plus the
-    /// scene's eps_margin).
+    /// Over-compressed above this window compaction (the kernel's eps0, if
+    /// positive, plus the scene's eps_margin).
     #[serde(with = "nan_null")]
     pub eps_bound: f64,
     /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
@@ -174,6 +212,22 @@ impl Default for Summary {
             l2: f64::NAN,
             linf_max: f64::NAN,
             max_eps: f64::NAN,
+            horizon: Default::default(),
+            window_from: f64::NAN,
+            window_to: f64::NAN,
+            window_frames: 0,
+            stationary: false,
+            unsteady: None,
+            regime: Default::default(),
+            eps_stat: f64::NAN,
+            eps_max_mean: f64::NAN,
+            eps_max_window: f64::NAN,
+            linf_stat: f64::NAN,
+            l2_stat: f64::NAN,
+            linf_frame_mean: f64::NAN,
+            rms_v_stat: f64::NAN,
+            dy_rms: f64::NAN,
+            t_disorder: None,
             mean_eps: f64::NAN,
             rms_v: f64::NAN,
             kinetic_energy: f64::NAN,
@@ -211,6 +265,7 @@ impl Summary {
     pub fn new(r: &RunResult) -> Summary {
         let pr = &r.problem;
         let last = r.last();
+        let w = &r.window;
         let rules = pr.scene.classes();
         let class = r.class(&rules);
         let (failure_kind, failure_reason, failure_t, failure_step, failure_particle) =
@@ -279,6 +334,22 @@ impl Summary {
             l2: last.l2_rel_err,
             linf_max: r.linf_rel_err_max(),
             max_eps: r.max_eps_run,
+            horizon: pr.horizon.kind,
+            window_from: w.from,
+            window_to: w.to,
+            window_frames: w.frames,
+            stationary: w.stationary,
+            unsteady: w.unsteady.clone(),
+            regime: w.regime,
+            eps_stat: w.eps_stat,
+            eps_max_mean: w.eps_max_mean,
+            eps_max_window: w.eps_max,
+            linf_stat: w.linf_stat,
+            l2_stat: w.l2_stat,
+            linf_frame_mean: w.linf_frame_mean,
+            rms_v_stat: w.rms_v_stat,
+            dy_rms: w.dy_rms,
+            t_disorder: r.t_disorder,
             mean_eps: last.mean_eps,
             rms_v: last.rms_v,
             kinetic_energy: last.kinetic_energy,
@@ -309,6 +380,10 @@ pub fn write_outputs(set: &StagedSet, result: &RunResult) -> Result<()> {
     set.put("summary.json", Summary::new(result).to_json().as_bytes())?;
     set.put("scene.toml", result.problem.scene.to_toml().as_bytes())?;
     set.put("profile.csv", profile_csv(result.last()).as_bytes())?;
+    set.put(
+        "window_profile.csv",
+        window_profile_csv(&result.window).as_bytes(),
+    )?;
     set.put("timeseries.csv", timeseries_csv(&result.samples).as_bytes())
 }
 
@@ -325,9 +400,20 @@ pub fn profile_csv(s: &Sample) -> String {
     out
 }
 
+/// The window's mean flow, band by band, against the steady profile (7)
+/// at each band's mean y.
+pub fn window_profile_csv(w: &crate::solver::Window) -> String {
+    let mut out = String::from("layer,y,u_mean,err_mean\n");
+    for b in &w.profile {
+        let _ = writeln!(out, "{},{},{},{}", b.layer, b.y, b.u, b.err);
+    }
+    out
+}
+
 pub fn timeseries_csv(samples: &[Sample]) -> String {
-    let mut out =
-        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n");
+    let mut out = String::from(
+        "t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n",
+    );
     for s in samples {
         let _ = writeln!(
             out,

@@ -11,9 +11,14 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use std::sync::atomic::AtomicBool;
+
+use anyhow::bail;
+
+use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
 use super::SceneArgs;
-use crate::answer::{answer, resolve_empirical, Search};
 use crate::config::{C0Spec, Scene};
+use crate::empirical::{answer, resolve_empirical, Extras, Search};
 use crate::problem::c0::table;
 use crate::solver::Class;
 
@@ -26,29 +31,37 @@ pub struct C0Args {
     /// Print the table as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Find the scene's c0 with the solver: bisection on log c0 for the
-    /// smallest c0 ok on the perfect lattice and on every perturbed seed,
-    /// then every rule run the same way.
+    /// Find the scene's c0 with the solver: the smallest c0 whose
+    /// stationary, disordered state (the jittered seeds pooled) is ok, by
+    /// bisection on log c0; beside it the perfect lattice (the ordered
+    /// regime), the disordered law, and every rule run the same way
+    /// (docs/stationary.md).
     #[arg(long)]
     pub empirical: bool,
+    /// With --empirical: also the c0 the disordered law gives for this
+    /// density tolerance delta (c0 = U (k / delta)^(1/m), beside Monaghan's
+    /// M^2 rule, rule10 and Morris 1997 at delta).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
     /// Perturbed starts: jitter amplitude in d (with --empirical).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = Search::default().amplitude)]
     pub amplitude: f64,
-    /// Perturbed starts: number of seeds (with --empirical).
-    #[arg(long, default_value_t = 3)]
+    /// Perturbed starts: number of seeds, pooled (with --empirical).
+    #[arg(long, default_value_t = Search::default().seeds)]
     pub seeds: u32,
     /// Recommended c0 = smallest ok c0 times this (with --empirical).
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(long, default_value_t = Search::default().margin)]
     pub margin: f64,
     /// Bisection tolerance on c0, relative (with --empirical).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = Search::default().rel_tol)]
     pub rel_tol: f64,
-    /// Run every run to its end for its final class (with --empirical; by
-    /// default a run stops at the first output time it is not ok, its class
-    /// the one seen then, and the perturbed seeds of a c0 stop when one is
-    /// not ok: the answer is the same, faster).
-    #[arg(long)]
-    pub full: bool,
+    /// The search's first probe and bounds, in U (with --empirical).
+    #[arg(long, default_value_t = Search::default().first_over_u)]
+    pub first_over_u: f64,
+    #[arg(long, default_value_t = Search::default().lo_over_u)]
+    pub lo_over_u: f64,
+    #[arg(long, default_value_t = Search::default().hi_over_u)]
+    pub hi_over_u: f64,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -132,15 +145,19 @@ fn runs_bar(quiet: bool) -> ProgressBar {
 }
 
 /// For `run`: a scene whose c0 is `[F*]empirical` gets the `c0
-/// --empirical` recommendation for itself (the bisection with the default
-/// search: 3 seeds jittered by 0.05 d, margin 1.5), found first and said
-/// (on stdout, or stderr when stdout carries JSON); any other scene is
-/// returned as it is.
-pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Scene> {
+/// --empirical` recommendation for itself (the default search), found first
+/// and said (on stdout, or stderr when stdout carries JSON); any other scene
+/// is returned as it is.
+pub fn empirical_scene(
+    scene: Scene,
+    quiet: bool,
+    to_stdout: bool,
+    stop: &AtomicBool,
+) -> Result<Scene> {
     let search = Search::default();
     let bar = runs_bar(quiet);
-    bar.set_message("c0 = empirical: the bisection first");
-    let Some((s, b)) = resolve_empirical(&scene, &search, &bar)? else {
+    bar.set_message("c0 = empirical: the search first");
+    let Some((s, a)) = resolve_empirical(&scene, &search, stop, &bar)? else {
         return Ok(scene);
     };
     bar.finish_and_clear();
@@ -148,17 +165,21 @@ pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Sce
         unreachable!("resolve_empirical gives a number")
     };
     let line = format!(
-        "c0 = {} = {c0:.6} ({:.4} U): the smallest c0 ok on the perfect lattice and on {} seeds \
-         jittered by {} d is {:.6} ({} trials{}), times the margin {}; now the run itself",
+        "c0 = {} = {c0:.6} ({:.4} U): the smallest c0 ok in the stationary, disordered state of {} \
+         seeds jittered by {} d is {:.6} ({} trials{}, runs to t = {:.4}..{:.4}), times the margin \
+         {}; now the run itself",
         scene.c0,
         c0 / s.u,
         search.seeds,
         search.amplitude,
-        b.c0_min_ok.unwrap_or(f64::NAN),
-        b.trials.len(),
-        b.c0_max_not_ok
-            .map(|c| format!(", not ok at {c:.6}"))
+        a.c0_min_ok.unwrap_or(f64::NAN),
+        a.trials.len(),
+        a.disordered
+            .compressed
+            .map(|c| format!(", over-compressed at {:.6}", c.0))
             .unwrap_or_default(),
+        a.horizon.t_min,
+        a.horizon.t_max,
         search.margin
     );
     if to_stdout {
@@ -171,76 +192,281 @@ pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Sce
 
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
-    // Everything but c0 must be valid before the first run.
-    table(&scene)?;
     let search = Search {
         amplitude: args.amplitude,
         seeds: args.seeds,
         margin: args.margin,
         rel_tol: args.rel_tol,
-        full: args.full,
-        ..Search::default()
+        first_over_u: args.first_over_u,
+        lo_over_u: args.lo_over_u,
+        hi_over_u: args.hi_over_u,
     };
+    if let Some(t) = args.tolerance {
+        if !(t > 0.0 && t < 1.0) {
+            bail!("--tolerance = {t} must be a density tolerance in (0, 1), e.g. 0.01");
+        }
+    }
+    let stop = stop_on_ctrl_c_saying("stopping the search")?;
     let bar = runs_bar(args.quiet);
-    let a = answer(&scene, &search, &bar)?;
+    let extras = Extras {
+        rules: true,
+        ordered: true,
+        law_ladder: args.tolerance.is_some(),
+    };
+    let a = match answer(&scene, &search, extras, &stop, &bar) {
+        Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => {
+            bar.finish_and_clear();
+            eprintln!("interrupted: no answer");
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
+        r => r?,
+    };
     bar.finish_and_clear();
-    let stopped_note = !search.full
-        && a.rules
-            .iter()
-            .any(|r| r.decided_t_perfect.is_some() || r.decided_t_perturbed.is_some());
+    let tolerance = args.tolerance.map(|d| Tolerance::new(&a, &scene, d));
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&a)?);
+        #[derive(serde::Serialize)]
+        struct Out<'a> {
+            #[serde(flatten)]
+            answer: &'a crate::empirical::Answer,
+            tolerance: Option<Tolerance>,
+        }
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&Out {
+                answer: &a,
+                tolerance
+            })?
+        );
         return Ok(ExitCode::SUCCESS);
     }
+    print_answer(&a, &search);
+    if let Some(t) = tolerance {
+        t.print(a.u);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_answer(a: &crate::empirical::Answer, search: &Search) {
+    let f = crate::format::fmt_num;
     println!(
-        "kernel {}, N = {}, Re = {:.6}, alpha = {}, U = {}; perfect lattice and {} seeds jittered by {} d",
-        a.kernel, a.n_layers, a.re, a.alpha, a.u, search.seeds, search.amplitude
+        "kernel {} ({}), N = {}, Re = {}, alpha = {}, U = {}; {} seeds jittered by {} d (pooled), \
+         and the perfect lattice",
+        a.kernel,
+        a.discretisation,
+        a.n_layers,
+        f(a.re),
+        a.alpha,
+        a.u,
+        search.seeds,
+        search.amplitude
+    );
+    let h = &a.horizon;
+    println!(
+        "horizon: stationary (docs/stationary.md): start-up {} + checkpoints from {} to the cap {} \
+         (B/U = {}); the {} runs ended at t = {}..{}, {} stationary, {} failed",
+        f(h.t_startup),
+        f(h.first),
+        f(h.cap),
+        f(h.shear_time),
+        h.runs,
+        f(h.t_min),
+        f(h.t_max),
+        h.stationary,
+        h.failed
     );
     match (a.c0_min_ok, a.recommended) {
         (Some(min), Some(rec)) => println!(
-            "recommended c0 = {rec:.6} ({:.4} U): the smallest c0 ok on every start, {min:.6} ({:.4} U), times {}{}",
-            rec / a.u,
-            min / a.u,
+            "recommended c0 = {rec:.6} ({} U): the smallest c0 ok in the disordered state, {min:.6} \
+             ({} U), times {}{}",
+            f(rec / a.u),
+            f(min / a.u),
             search.margin,
-            a.c0_max_not_ok
-                .map(|c| format!("; not ok at {:.4} U", c / a.u))
-                .unwrap_or_else(|| format!("; ok down to the lowest probe, {} U", search.lo_over_u))
+            a.disordered
+                .compressed
+                .map(|(c, k)| format!("; {k} at {} U", f(c / a.u)))
+                .unwrap_or_else(|| format!("; ok down to the lowest c0, {} U", search.lo_over_u))
         ),
-        _ => println!(
-            "no c0 up to {} U is ok on every start: no recommendation",
-            search.hi_over_u
+        _ => println!("no c0 from {} U to {} U is ok in the disordered state: no recommendation", search.lo_over_u, search.hi_over_u),
+    }
+    if let Some(d) = &a.diagnosis {
+        println!("why: {}", d.binds);
+        for w in &d.would {
+            println!("  would allow a c0: {w}");
+        }
+    }
+    match a.ordered.c0_min_ok {
+        Some(c) => println!(
+            "ordered regime (the perfect lattice, the paper's analysis): ok from {} U{}",
+            f(c / a.u),
+            a.ordered
+                .compressed
+                .map(|(c, k)| format!(" ({k} at {} U)", f(c / a.u)))
+                .unwrap_or_else(|| " down to the lowest c0".into())
         ),
+        None => println!("ordered regime (the perfect lattice): no c0 tried is ok"),
+    }
+    if let Some(t) = &a.time_to_disorder {
+        println!(
+            "order lasts, at {} U: a {} d jitter disorders at t = {} (dy_rms >= 0.1 d, mean over \
+             the seeds); the perfect lattice {}",
+            f(t.c0 / a.u),
+            t.amplitude,
+            t.seeds.map_or("(not within the runs)".into(), f),
+            t.perfect
+                .map_or(format!("stayed ordered to t = {}", f(t.perfect_t)), |p| {
+                    format!("disordered from round-off at t = {}", f(p))
+                })
+        );
+    }
+    if let Some(l) = &a.law {
+        let (lo, hi) = l.range();
+        println!(
+            "disordered law: eps_stat - {} = k (U/c0)^m, k = {} (ln k +- {}), m = {} +- {} (rms {} \
+             in ln eps; {} trials, c0 = {}..{} U)",
+            f(l.eps0),
+            f(l.k),
+            f(l.ln_k_se),
+            f(l.m),
+            f(l.m_se),
+            f(l.rms),
+            l.points.len(),
+            f(lo),
+            f(hi)
+        );
     }
     println!(
-        "{:<20} {:>12} {:>10} {:>20} {:>20} {:>10} {:>9} {:>8} {:>9}",
-        "rule", "c0", "c0/U", "perfect", "perturbed", "linf", "steps", "wall_s", "cost_rel"
+        "{:<20} {:>11} {:>9} {:>16} {:>16} {:>10} {:>10} {:>9} {:>8}",
+        "rule",
+        "c0",
+        "c0/U",
+        "ordered",
+        "disordered",
+        "eps_stat",
+        "linf_stat",
+        "cost_rel",
+        "wall_s"
     );
-    // "inaccurate@12.3": stopped at t = 12.3, where it was decided not ok
-    let cls = |c: Option<Class>, t: Option<f64>| match (c, t) {
-        (None, _) => "not run".to_string(),
-        (Some(c), None) => c.to_string(),
-        (Some(c), Some(t)) => format!("{c}@{}", crate::format::fmt_num(t)),
-    };
+    let cls = |c: Option<Class>| c.map_or("-".to_string(), |c| c.to_string());
     for r in &a.rules {
-        println!(
-            "{:<20} {:>12.6} {:>10.4} {:>20} {:>20} {:>10.3e} {:>9} {:>8.2} {:>9.2}",
-            r.name,
-            r.c0,
-            r.c0_over_u,
-            cls(r.outcome_perfect, r.decided_t_perfect),
-            cls(r.outcome_perturbed, r.decided_t_perturbed),
-            r.linf,
-            r.steps,
-            r.wall_s,
-            r.cost_rel
-        );
+        match (r.c0, &r.not_applicable) {
+            (Some(c0), _) => println!(
+                "{:<20} {:>11.6} {:>9.4} {:>16} {:>16} {:>10.3e} {:>10.3e} {:>9.2} {:>8.2}",
+                r.name,
+                c0,
+                c0 / a.u,
+                cls(r.ordered),
+                cls(r.disordered),
+                r.eps_stat,
+                r.linf_stat,
+                r.cost_rel,
+                r.wall_s
+            ),
+            (None, why) => println!(
+                "{:<20} {:>11}   not applicable: {}",
+                r.name,
+                "-",
+                why.as_deref().unwrap_or("")
+            ),
+        }
     }
-    if stopped_note {
-        println!(
-            "CLASS@T: stopped at t = T, the first output time it was not ok (its class then; run on \
-             it could only get worse, never ok); steps to there, cost_rel from the steps to t_end \
-             extrapolated; --full runs every run to its end"
-        );
+    println!(
+        "trials (c0/U: perfect lattice | pooled seeds eps_stat, linf_stat, stationary seeds):"
+    );
+    for t in &a.trials {
+        let perfect = t
+            .perfect
+            .as_ref()
+            .map_or("-".to_string(), |p| p.class.to_string());
+        let seeds = match &t.pooled {
+            None => "-".to_string(),
+            Some(p) => format!(
+                "{:<15} eps {:.3e} (seeds {:.3e}..{:.3e}), linf {:.3e}, {}/{} stationary{}",
+                p.class.to_string(),
+                p.eps_stat,
+                p.eps_stat_min,
+                p.eps_stat_max,
+                p.linf_stat,
+                p.stationary,
+                p.seeds,
+                p.failure
+                    .as_ref()
+                    .map(|w| format!("; {w}"))
+                    .unwrap_or_default()
+            ),
+        };
+        println!("  {:>9.4}: {perfect:<15} | {seeds}", t.c0_over_u);
     }
-    Ok(ExitCode::SUCCESS)
+}
+
+/// `--tolerance delta`: the disordered law's c0 beside the field's rules.
+#[derive(Debug, Clone, serde::Serialize)]
+struct Tolerance {
+    delta: f64,
+    /// c0 / U from the law (None: no law fitted).
+    law_c0_over_u: Option<f64>,
+    /// Monaghan's M^2 <= delta: c0 = U / sqrt(delta); rule10; Morris 1997
+    /// at delta; each with the law's compaction at it (what it gives).
+    rules: Vec<(String, f64, Option<f64>)>,
+}
+
+impl Tolerance {
+    fn new(a: &crate::empirical::Answer, scene: &Scene, delta: f64) -> Tolerance {
+        let law = a.law.as_ref();
+        let (b, nu, p) = flow_of(scene);
+        let l = 2.0 * b;
+        let u = a.u;
+        let morris = (u * u / delta)
+            .max(nu * u / (l * delta))
+            .max(p * l / delta)
+            .sqrt();
+        let rules = [
+            (
+                "monaghan M^2 (U / sqrt(delta))".to_string(),
+                u / delta.sqrt(),
+            ),
+            ("rule10".to_string(), 10.0 * u),
+            ("morris1997 at delta".to_string(), morris),
+        ]
+        .into_iter()
+        .map(|(n, c)| (n, c / u, law.map(|l| l.eps_at(c / u))))
+        .collect();
+        Tolerance {
+            delta,
+            law_c0_over_u: law.map(|l| l.c0_over_u(delta)),
+            rules,
+        }
+    }
+
+    fn print(&self, _u: f64) {
+        let f = crate::format::fmt_num;
+        match self.law_c0_over_u {
+            Some(c) => println!(
+                "for a density tolerance delta = {} (on eps_stat - eps0+): c0 = {} U by the disordered law",
+                f(self.delta),
+                f(c)
+            ),
+            None => println!(
+                "for a density tolerance delta = {}: no disordered law was fitted (too few settled trials)",
+                f(self.delta)
+            ),
+        }
+        for (name, c, eps) in &self.rules {
+            println!(
+                "  {name:<34} c0 = {:>8} U: the law's eps_stat - eps0+ there {}",
+                f(*c),
+                eps.map_or("-".into(), |e| format!(
+                    "{} ({} delta)",
+                    f(e),
+                    f(e / self.delta)
+                ))
+            );
+        }
+    }
+}
+
+/// B, nu and p of a scene.
+fn flow_of(scene: &Scene) -> (f64, f64, f64) {
+    let info = scene.kernel_info().expect("checked by the answer");
+    let ch = crate::problem::channel::Channel::resolve(scene, info).expect("checked by the answer");
+    (ch.flow.b, ch.flow.nu, ch.flow.p)
 }

@@ -64,8 +64,16 @@ pub fn main(args: LawArgs) -> Result<ExitCode> {
         );
         bar
     };
+    let stop = super::interrupt::stop_on_ctrl_c_saying("stopping the law's runs")?;
     let t0 = Instant::now();
-    let points = law::run(&config, &bar)?;
+    let points = match law::run(&config, &stop, &bar) {
+        Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => {
+            bar.finish_and_clear();
+            eprintln!("interrupted: the law's points are not written");
+            return Ok(ExitCode::from(super::interrupt::EXIT_INTERRUPTED));
+        }
+        r => r?,
+    };
     bar.finish_and_clear();
     let result = Law::new(&config, points, t0.elapsed().as_secs_f64());
     write_atomic(

@@ -85,6 +85,14 @@ pub struct SceneArgs {
     /// Tolerance for the default end time.
     #[arg(long)]
     pub decay_tol: Option<f64>,
+    /// `fixed` (run to t_end) or `stationary` (run past the start-up until
+    /// the statistics are stationary: docs/stationary.md; no t_end then).
+    #[arg(long)]
+    pub horizon: Option<String>,
+    /// With `--horizon stationary`: the first checkpoint's span after the
+    /// start-up, in shear times B / U (default 64).
+    #[arg(long)]
+    pub horizon_span: Option<f64>,
     /// Time between diagnostics (default t_end / 20).
     #[arg(long)]
     pub output_interval: Option<f64>,
@@ -154,6 +162,8 @@ impl SceneArgs {
         put("initial", self.initial.clone().map(Value::String));
         put("t_end", self.t_end.map(Value::Float));
         put("decay_tol", self.decay_tol.map(Value::Float));
+        put("horizon", self.horizon.clone().map(Value::String));
+        put("horizon_span", self.horizon_span.map(Value::Float));
         put("output_interval", self.output_interval.map(Value::Float));
         put("gamma", self.gamma.map(Value::Float));
         put(

@@ -68,8 +68,9 @@ pub struct RunArgs {
 
 pub fn main(args: RunArgs) -> Result<ExitCode> {
     let scene = args.scene.load()?;
-    // `--c0 empirical`: the bisection first, then this run at its answer.
-    let scene = super::c0::empirical_scene(scene, args.quiet, !args.json)?;
+    let stop = stop_on_ctrl_c_saying("ending the run at this step and writing its outputs so far")?;
+    // `--c0 empirical`: the search first, then this run at its answer.
+    let scene = super::c0::empirical_scene(scene, args.quiet, !args.json, &stop)?;
     // Check everything before touching the output folder.
     let problem = Problem::resolve(&scene, scene.kernel_info()?)?;
     output::prepare_dir(&args.out, args.force)?;
@@ -87,7 +88,6 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
         );
         bar
     };
-    let stop = stop_on_ctrl_c_saying("ending the run at this step and writing its outputs so far")?;
     if !args.quiet {
         // After the handler is in place: from here Ctrl-C keeps the outputs.
         eprintln!(
@@ -222,9 +222,33 @@ fn print_summary(s: &Summary, outcome: &Outcome, class: Class, out: &std::path::
         s.mean_eps,
         s.rms_v / s.u
     );
+    println!(
+        "window {:.6} < t <= {:.6} ({} frames, {} horizon): {}, {}; eps_stat (mean p99 eps) = \
+         {:.4e}, mean-flow L_inf / U = {:.4e}, RMS v / U = {:.4e}, dy_rms = {:.3e} d{}",
+        s.window_from,
+        s.window_to,
+        s.window_frames,
+        s.horizon,
+        if s.stationary {
+            "stationary"
+        } else {
+            "not stationary"
+        },
+        s.regime,
+        s.eps_stat,
+        s.linf_stat,
+        s.rms_v_stat / s.u,
+        s.dy_rms,
+        s.t_disorder
+            .map_or(String::new(), |t| format!(", disordered from t = {t:.4}"))
+    );
+    if let Some(why) = &s.unsteady {
+        println!("  not stationary: {why}");
+    }
     println!("outcome: {outcome}");
     println!(
-        "class: {class} (inaccurate above L_inf {:.4} of U, over-compressed above max eps {:.4})",
+        "class: {class} (inaccurate above a mean-flow L_inf of {:.4} U, over-compressed above \
+         eps_stat {:.4})",
         s.linf_bound, s.eps_bound
     );
     println!("outputs in {}", out.display());

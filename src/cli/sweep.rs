@@ -95,7 +95,7 @@ pub struct RunSweepArgs {
     #[arg(long, value_delimiter = ',')]
     pub jitter: Vec<f64>,
     /// Seeds per non-zero jitter amplitude (seeds 1..=K, default 3); a
-    /// perturbed point's outcome is its worst over them.
+    /// perturbed point's outcome pools them (docs/stationary.md).
     #[arg(long, value_name = "K")]
     pub seeds: Option<u32>,
     /// A scene file whose fields every point starts from (the grid's win).
@@ -376,7 +376,7 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
     };
     // The map is drawn at the grid's first N, alpha, discretisation and
     // jitter amplitude (by grid position, not by value); a jittered
-    // point's cell is its worst over the seeds.
+    // point's cell pools its seeds.
     let Some(disc) = spec.points().first().map(|p| (p.disc, p.start)) else {
         return Ok(());
     };
@@ -393,7 +393,7 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
     }
     if let sweep::Start::Jittered { amplitude, .. } = disc.1 {
         what.push_str(&format!(
-            ", jitter {amplitude} d, worst of {} seeds",
+            ", jitter {amplitude} d, {} seeds pooled",
             spec.seeds
         ));
     }
@@ -406,11 +406,12 @@ pub fn write_charts(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<()> {
             })
             .cloned()
             .collect();
-        let here: Vec<&Row> = sweep::worst_over_seeds(&first)
+        let pooled: Vec<Row> = sweep::pool_over_seeds(&first)
             .into_iter()
-            .map(|g| g.worst)
+            .map(|g| g.pooled)
             .filter(|r| r.c0_over_u.is_finite() && r.c0_over_u > 0.0)
             .collect();
+        let here: Vec<&Row> = pooled.iter().collect();
         let mut c0s: Vec<f64> = here.iter().map(|r| r.c0_over_u).collect();
         c0s.sort_by(f64::total_cmp);
         c0s.dedup();

@@ -23,5 +23,6 @@ pub(crate) use error::{invalid, positive};
 pub use lookup::{discretisation, kernel_info, parse_h_over_d, rational_text};
 pub use overlay::{overlay, DEFAULT_SCENE};
 pub use scene::{
-    ClassRules, Initial, PressureForm, Scene, ViscousNormalisation, WallVelocity, DEFAULT_ALPHA,
+    ClassRules, HorizonKind, Initial, PressureForm, Scene, ViscousNormalisation, WallVelocity,
+    DEFAULT_ALPHA,
 };

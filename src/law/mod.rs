@@ -1,6 +1,7 @@
-//! The law of the minimal c0 (`shearsph law`, issue 14 item 5): the
-//! empirical c0_min under perturbation (the bisection of
-//! [`crate::answer::bisect`]) per kernel over N x Re x alpha, every rule's
+//! The law of the minimal c0 (`shearsph law`): the empirical c0_min (the
+//! engine's, [`crate::empirical::answer`]: the smallest c0 ok in the
+//! stationary, disordered state) per kernel over N x Re x alpha, the
+//! disordered law eps_stat = k (U / c0)^m at each point, every rule's
 //! c0 at each point, and least-squares fits of log c0_min ([`fit`]): free
 //! exponents of N and Re (and alpha), the paper's scaling c0 ~ U / sqrt(N
 //! Re) (from its root at alpha = 0: c0 = (U/N^2) sqrt(Q A), A = p d N^4 /
@@ -9,16 +10,16 @@
 
 pub mod fit;
 
-use std::collections::HashMap;
 use std::fmt::Write as _;
+use std::sync::atomic::AtomicBool;
 
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::answer::{bisect, Search};
 use crate::config::Scene;
+use crate::empirical::{answer, Extras, Search};
 use crate::problem::c0::{all_rules, by_rule};
 use crate::problem::channel::Channel;
 use crate::problem::cost::Estimate;
@@ -39,6 +40,7 @@ pub struct Config {
     pub amplitude: f64,
     pub seeds: u32,
     pub rel_tol: f64,
+    pub first_over_u: f64,
     pub lo_over_u: f64,
     pub hi_over_u: f64,
     /// Scene fields over the built-in scene.
@@ -69,6 +71,8 @@ impl Config {
             "c0",
             "jitter",
             "jitter_seed",
+            "horizon",
+            "t_end",
         ] {
             if c.scene.contains_key(key) {
                 bail!(
@@ -97,6 +101,7 @@ impl Config {
             amplitude: self.amplitude,
             seeds: self.seeds,
             rel_tol: self.rel_tol,
+            first_over_u: self.first_over_u,
             lo_over_u: self.lo_over_u,
             hi_over_u: self.hi_over_u,
             ..Search::default()
@@ -138,8 +143,18 @@ pub struct Point {
     pub alpha: f64,
     /// The smallest c0 / U ok on every start (None: no c0 probed was).
     pub c0_min_over_u: Option<f64>,
-    /// The largest c0 / U found not ok below it.
+    /// The largest c0 / U found over-compressed (or failed) below it.
     pub below_over_u: Option<f64>,
+    /// The disordered law at this point: k, m and their errors (None: too
+    /// few settled trials).
+    pub law: Option<crate::empirical::DisorderedLaw>,
+    /// Why no c0 is ok, when none is.
+    pub binds: Option<String>,
+    /// Runs, those stationary, and the times they reached.
+    pub runs: usize,
+    pub stationary: usize,
+    pub t_min: f64,
+    pub t_max: f64,
     /// The time step's limit at c0_min (at U and p as scales).
     pub dt_limit: Option<&'static str>,
     /// Every rule's c0 / U at this point (NaN: none).
@@ -152,8 +167,8 @@ pub struct Point {
 }
 
 /// Run every point of `config` (in parallel; each run on one thread),
-/// ticking `bar` per point.
-pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
+/// ticking `bar` per point; `stop` ends it with an error.
+pub fn run(config: &Config, stop: &AtomicBool, bar: &ProgressBar) -> Result<Vec<Point>> {
     let search = config.search();
     let keys = config.points();
     // every scene valid before the first run
@@ -172,7 +187,11 @@ pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
         .par_iter()
         .zip(scenes.par_iter())
         .map(|((kernel, n, re, alpha), scene)| {
-            let b = bisect(scene, &search, &ProgressBar::hidden(), &mut HashMap::new())?;
+            let extras = Extras {
+                law_ladder: true,
+                ..Extras::default()
+            };
+            let a = answer(scene, &search, extras, stop, &ProgressBar::hidden())?;
             let info = scene.kernel_info()?;
             let channel = Channel::resolve(scene, info)?;
             let u = channel.flow.u;
@@ -188,14 +207,20 @@ pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
                 n: *n,
                 re: *re,
                 alpha: *alpha,
-                c0_min_over_u: b.c0_min_ok.map(|c| c / u),
-                below_over_u: b.c0_max_not_ok.map(|c| c / u),
-                dt_limit: b
+                c0_min_over_u: a.c0_min_ok.map(|c| c / u),
+                below_over_u: a.c0_min_ok.and(a.disordered.compressed).map(|c| c.0 / u),
+                law: a.law.clone(),
+                binds: a.diagnosis.as_ref().map(|d| d.binds.clone()),
+                runs: a.horizon.runs,
+                stationary: a.horizon.stationary,
+                t_min: a.horizon.t_min,
+                t_max: a.horizon.t_max,
+                dt_limit: a
                     .c0_min_ok
                     .map(|c| Estimate::new(&channel, c, t_end).time_step.limit.name()),
                 rules,
-                trials: b.trials.len(),
-                run_s: b.trials.iter().map(|t| t.wall_s).sum(),
+                trials: a.trials.len(),
+                run_s: a.trials.iter().map(|t| t.wall_s()).sum(),
             })
         })
         .collect();
@@ -208,7 +233,9 @@ pub fn csv(points: &[Point]) -> String {
         .first()
         .map(|p| p.rules.iter().map(|r| r.0.as_str()).collect())
         .unwrap_or_default();
-    let mut s = String::from("kernel,n,re,alpha,c0_min_over_u,below_over_u,dt_limit,trials,run_s");
+    let mut s = String::from(
+        "kernel,n,re,alpha,c0_min_over_u,below_over_u,law_k,law_m,law_m_se,dt_limit,trials,runs,stationary,t_min,t_max,run_s",
+    );
     for n in &names {
         write!(s, ",{n}").unwrap();
     }
@@ -217,15 +244,22 @@ pub fn csv(points: &[Point]) -> String {
     for p in points {
         write!(
             s,
-            "{},{},{},{},{},{},{},{},{:.3}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3}",
             p.kernel,
             p.n,
             p.re,
             p.alpha,
             opt(p.c0_min_over_u),
             opt(p.below_over_u),
+            opt(p.law.as_ref().map(|l| l.k)),
+            opt(p.law.as_ref().map(|l| l.m)),
+            opt(p.law.as_ref().map(|l| l.m_se)),
             p.dt_limit.unwrap_or(""),
             p.trials,
+            p.runs,
+            p.stationary,
+            p.t_min,
+            p.t_max,
             p.run_s
         )
         .unwrap();
@@ -387,6 +421,12 @@ mod tests {
             alpha,
             c0_min_over_u: c,
             below_over_u: None,
+            law: None,
+            binds: None,
+            runs: 0,
+            stationary: 0,
+            t_min: 0.0,
+            t_max: 0.0,
             dt_limit: None,
             rules: vec![],
             trials: 0,

@@ -37,7 +37,7 @@ pub fn by_rule(
         C0Rule::Rule10 => Ok((10.0 * u, name)),
         C0Rule::Trixi => Ok((100.0 * u, name)),
         // the solver's answer: the layers above resolve it by running the
-        // bisection first (`crate::answer::resolve_empirical`)
+        // bisection first (`crate::empirical::resolve_empirical`)
         C0Rule::Empirical => Err(invalid(
             "c0",
             "empirical is the solver's answer for the scene: `shearsph run` and `shearsph c0 \

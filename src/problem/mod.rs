@@ -9,6 +9,7 @@
 pub mod c0;
 pub mod channel;
 pub mod cost;
+pub mod horizon;
 pub mod lattice;
 
 use serde::Serialize;
@@ -22,6 +23,7 @@ use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;
 use channel::Channel;
+use horizon::{Horizon, HorizonKind};
 use lattice::Lattice;
 
 /// A scene resolved against its kernel: every number the solver uses.
@@ -65,8 +67,12 @@ pub struct Problem {
     pub skin: f64,
     /// A run fails when the fluid's compaction exceeds this.
     pub eps_limit: f64,
+    /// The end time: the scene's (or the start-up's decay) in a fixed
+    /// horizon, the cap in a stationary one.
     pub t_end: f64,
     pub output_interval: f64,
+    /// When the run may stop and which window judges it.
+    pub horizon: Horizon,
     pub initial: Initial,
     /// A run fails when a fluid speed exceeds 10 U + c0: no flow of this
     /// problem comes near it (the flow is at most U, the acoustic pulsation a
@@ -81,8 +87,9 @@ impl Problem {
         check_fields(scene)?;
         let channel = Channel::resolve(scene, info)?;
         channel.check_derived(scene)?;
-        let t_end = channel.t_end(scene)?;
         let flow_in = channel.flow_inputs(scene);
+        let horizon = resolve_horizon(scene, &channel)?;
+        let t_end = horizon.cap();
         derived(
             "t_end",
             t_end,
@@ -124,12 +131,13 @@ impl Problem {
             t_end,
             scene.max_run_s,
         )?;
-        let output_interval = match scene.output_interval {
-            Some(dt) => {
+        let output_interval = match (scene.output_interval, horizon.kind) {
+            (Some(dt), _) => {
                 positive("output_interval", dt)?;
                 dt
             }
-            None => t_end / 20.0,
+            (None, HorizonKind::Fixed) => t_end / 20.0,
+            (None, HorizonKind::Stationary) => default_interval(&channel, scene.horizon_span),
         };
         let interval_in = match scene.output_interval {
             Some(_) => with(&step_in, &[("output_interval", output_interval)]),
@@ -212,6 +220,7 @@ impl Problem {
             eps_limit: scene.eps_limit,
             t_end,
             output_interval,
+            horizon,
             initial: scene.initial,
             v_limit,
         })
@@ -261,6 +270,84 @@ impl Problem {
     /// Whether the walls show the fluid its mirrored velocity.
     pub fn mirrored_walls(&self) -> bool {
         self.wall_velocity == WallVelocity::Mirrored
+    }
+}
+
+/// The frames of a stationary horizon: every t_s / 4 (t_s = B / U), or
+/// finer for a span so short that its first window would hold fewer than
+/// 32 frames.
+fn default_interval(channel: &Channel, span: f64) -> f64 {
+    let t_s = channel.flow.b / channel.flow.u;
+    (t_s / horizon::FRAMES_PER_SHEAR_TIME).min(span * t_s / 64.0)
+}
+
+/// The scene's horizon: to its t_end (`fixed`), or checkpoints after the
+/// start-up (`stationary`, which sets the end itself: a t_end beside it is
+/// an error).
+fn resolve_horizon(scene: &Scene, channel: &Channel) -> Result<Horizon, SceneError> {
+    let flow = &channel.flow;
+    let shear_time = flow.b / flow.u;
+    let t_startup = match scene.initial {
+        Initial::Rest => {
+            let mut s = scene.clone();
+            s.t_end = None;
+            channel.t_end(&s)?
+        }
+        Initial::Steady => 0.0,
+    };
+    match scene.horizon {
+        HorizonKind::Fixed => Ok(Horizon::fixed(t_startup, shear_time, channel.t_end(scene)?)),
+        HorizonKind::Stationary => {
+            if let Some(t) = scene.t_end {
+                return Err(invalid(
+                    "t_end",
+                    format!(
+                        "{} with horizon = \"stationary\": that horizon ends the run itself (when \
+                         its statistics are stationary, at most 4 horizon spans after the start-up); remove t_end, or use horizon = \"fixed\"",
+                        fmt_value(t)
+                    ),
+                ));
+            }
+            let interval = match scene.output_interval {
+                Some(dt) => {
+                    positive("output_interval", dt)?;
+                    dt
+                }
+                None => default_interval(channel, scene.horizon_span),
+            };
+            let (lo, hi) = horizon::SPAN_RANGE;
+            if !(lo..=hi).contains(&scene.horizon_span) {
+                return Err(invalid(
+                    "horizon_span",
+                    format!(
+                        "{} shear times B / U must be from {lo} to {hi} (64 by default): the \
+                         first checkpoint's span after the start-up",
+                        fmt_value(scene.horizon_span)
+                    ),
+                ));
+            }
+            let span = scene.horizon_span * shear_time;
+            if interval > span / 64.0 {
+                return Err(invalid(
+                    "output_interval",
+                    format!(
+                        "{} is too coarse for horizon = \"stationary\": its first window holds \
+                         half the span, {}, which needs at least 32 frames; use at most {} or \
+                         leave it unset ({} by default)",
+                        fmt_value(interval),
+                        fmt_value(span / 2.0),
+                        fmt_value(span / 64.0),
+                        fmt_value(default_interval(channel, scene.horizon_span))
+                    ),
+                ));
+            }
+            Ok(Horizon::stationary(
+                t_startup,
+                shear_time,
+                scene.horizon_span,
+                interval,
+            ))
+        }
     }
 }
 

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use super::empirical::{Criterion, Empirical};
+use super::empirical::Empirical;
 use super::plan::Case;
 use super::tables::C0Compare;
 use super::ReportData;
@@ -66,7 +66,7 @@ fn empirical_at(d: &ReportData, ki: usize, ri: usize, case: Case) -> Option<&Emp
 /// The ok band of an empirical c0: from it to the top of its ok block
 /// (only when some c0 ran ok).
 fn band(e: Option<&Empirical>) -> Option<Band> {
-    let e = e.filter(|e| e.criterion == Criterion::Ok)?;
+    let e = e?;
     Some(Band {
         lo: e.c0_over_u?,
         hi: e.top?,
@@ -127,10 +127,7 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
         empirical_at(d, ki, ri, Case::PAPER),
         empirical_at(d, ki, ri, PERTURBED),
     );
-    let ok_c0 = |e: Option<&Empirical>| {
-        e.filter(|e| e.criterion == Criterion::Ok)
-            .and_then(|e| e.c0_over_u)
-    };
+    let ok_c0 = |e: Option<&Empirical>| e.and_then(|e| e.c0_over_u);
     let (e_perfect, e_perturbed) = (ok_c0(perfect), ok_c0(perturbed));
     let tol = (1.0 + d.config.empirical.rel_tol).powi(2);
     let with_c0: Vec<&RuleAt> = rules.iter().filter(|r| r.c0().is_some()).collect();
@@ -213,7 +210,6 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
 /// run at the perturbed empirical c0.
 fn cost_sentence(rules: &[&RuleAt], perturbed: Option<&Empirical>) -> Option<String> {
     let at = perturbed
-        .filter(|e| e.criterion == Criterion::Ok)
         .and_then(|e| e.at.as_ref())
         .filter(|r| r.steps > 0)?;
     let costs: Vec<String> = rules

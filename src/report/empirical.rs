@@ -1,31 +1,40 @@
-//! The empirical c0: for a kernel and a scene, the smallest c0 from which
-//! the runs are `ok`, found with the solver in the loop. The stability map's
-//! row at that Re gives the bracket: of the block of consecutive ok values
-//! that ends at the largest ok c0 on the grid, its lowest value, and the grid
-//! value below it (which was not ok). Bisection on log c0 then narrows it to
-//! `rel_tol`. Ok values further down, cut off from that block by runs that
-//! were not ok, are isolated and listed apart: a c0 is no safe choice when a
-//! larger one fails. (Ok-ness is not monotone in c0: too small a c0
-//! over-compresses, too large a one adds artificial viscosity alpha c0 h,
-//! which makes high-Re runs inaccurate.)
-//!
-//! When no c0 of the map ran ok (a kernel whose runs are inaccurate at every
-//! c0), the criterion falls back to `stable` (ok or inaccurate: neither
-//! failed nor over-compressed), and says so.
+//! The empirical c0 in the report: for every kernel, verdict Re and
+//! discretisation, the engine's answer ([`crate::empirical::answer`], the
+//! one `c0 --empirical` gives for the same scene): the smallest c0 ok in
+//! the stationary, disordered state (the report's perturbed case) and on
+//! the perfect lattice (its perfect case, the ordered regime), with the
+//! horizon, the disordered law and the diagnosis when none is ok.
 
 use std::fmt::Write as _;
 use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::plan::{worst, Case, Config, Plan};
+use super::plan::{Case, Config};
+use crate::config::Scene;
+use crate::empirical::{answer, Answer, Bracket, Extras, Regime, Search, Trial};
 use crate::kernel::KernelInfo;
 use crate::sweep::store::csv_field;
-use crate::sweep::{run_point, Class, Discretisation, Parallel, Point, PointC0, Row};
+use crate::sweep::{Class, Discretisation, Parallel};
 
-/// The result for one kernel at one Re.
+/// The run at an empirical c0.
+#[derive(Debug, Clone, Serialize)]
+pub struct AtRun {
+    pub c0_over_u: f64,
+    pub class: Class,
+    /// The judged statistics (pooled over the seeds in the perturbed case).
+    pub eps_stat: f64,
+    pub linf_stat: f64,
+    /// Steps per run (the perfect lattice's, or the seeds' mean) and
+    /// wall-clock seconds summed.
+    pub steps: u64,
+    pub wall_s: f64,
+}
+
+/// The result for one kernel at one Re in one case.
 #[derive(Debug, Clone, Serialize)]
 pub struct Empirical {
     pub kernel: String,
@@ -35,23 +44,21 @@ pub struct Empirical {
     pub kernel_index: usize,
     #[serde(skip)]
     pub re_index: usize,
-    /// The discretisation and start; a perturbed case's outcome at a c0 is
-    /// its worst over the seeds.
+    /// The discretisation and start (perturbed: the disordered regime of
+    /// the pooled seeds; perfect: the ordered regime).
     #[serde(skip)]
     pub case: Case,
-    /// The discretisation, and its label ("triangular, h = d").
     #[serde(skip)]
     pub disc: Discretisation,
     pub discretisation: String,
     pub n: u32,
     pub re: f64,
     pub alpha: f64,
-    /// `ok`, or `stable` when no c0 tried ran ok.
-    pub criterion: Criterion,
-    /// The smallest c0 / U seen to meet the criterion (None: none did).
+    /// The smallest c0 / U found ok (None: none).
     pub c0_over_u: Option<f64>,
-    /// The largest c0 / U below it seen not to meet it, and how that run
-    /// ended (None: the answer is at or below the smallest c0 tried).
+    /// The largest c0 / U below it found over-compressed or failed, and
+    /// how that run ended (None: not compressed down to the search's low
+    /// end).
     pub below: Option<f64>,
     pub below_class: Option<Class>,
     pub below_reason: Option<String>,
@@ -59,114 +66,67 @@ pub struct Empirical {
     /// The c0 / U range that was tried.
     pub tried_min: f64,
     pub tried_max: f64,
-    /// The run at the answer.
-    pub at: Option<Row>,
-    /// The largest c0 / U of the block of ok runs, and the first grid value
-    /// above it with its class (None: the block reaches the map's top).
+    pub at: Option<AtRun>,
+    /// The largest c0 / U of the block of ok trials from the answer up,
+    /// and the first trial above it with its class (None: the block reaches
+    /// the top trial).
     pub top: Option<f64>,
     pub above: Option<(f64, Class)>,
-    /// Grid values below the block that also met the criterion (isolated).
-    pub isolated_below: Vec<f64>,
-    /// The bisection's own runs (the map's are in the map).
+    /// The whole answer (shared by the two cases of a target).
     #[serde(skip)]
-    pub runs: Vec<Row>,
-}
-
-/// What the empirical c0 is the smallest value of.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Criterion {
-    /// Runs `ok`.
-    Ok,
-    /// Runs neither failed nor over-compressed (none ran ok).
-    Stable,
-}
-
-impl std::fmt::Display for Criterion {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Criterion::Ok => "ok",
-            Criterion::Stable => "stable",
-        })
-    }
-}
-
-impl Criterion {
-    fn meets(self, class: Class) -> bool {
-        match self {
-            Criterion::Ok => class == Class::Ok,
-            Criterion::Stable => matches!(class, Class::Ok | Class::Inaccurate),
-        }
-    }
+    pub answer: Arc<Answer>,
 }
 
 impl Empirical {
-    /// Plain words for the table and the verdicts.
-    /// Plain words: the answer, its bracket, how far up the ok runs reach,
-    /// and any isolated ok values below.
+    /// Plain words: the answer, its bracket, how far up the ok runs reach.
     pub fn describe(&self) -> String {
-        let crit = if self.criterion == Criterion::Ok {
-            "ran ok"
+        let regime = if self.case.perturbed {
+            "in the stationary, disordered state"
         } else {
-            "ran without failing or over-compressing (none ran ok)"
+            "on the perfect lattice"
         };
         let mut t = match (self.c0_over_u, self.below) {
             (None, _) => {
+                let why = self
+                    .answer
+                    .diagnosis
+                    .as_ref()
+                    .filter(|_| self.case.perturbed)
+                    .map(|d| format!(" ({})", d.binds))
+                    .unwrap_or_default();
                 return format!(
-                    "no c0 from {} U to {} U ran ok, or even without failing or over-compressing",
+                    "no c0 from {} U to {} U ran ok {regime}{why}",
                     fmt(self.tried_min),
                     fmt(self.tried_max)
-                )
+                );
             }
             (Some(c), Some(b)) => format!(
-                "the smallest c0 that {crit} is {} U (bisection to {} %: at {} U the run was {})",
+                "the smallest c0 that ran ok {regime} is {} U (bisection to {} %: at {} U the run was {})",
                 fmt(c),
                 fmt(100.0 * self.rel_tol),
                 fmt(b),
                 self.below_reason.clone().unwrap_or_default()
             ),
-            (Some(c), None) => format!("every c0 tried down to {} U {crit}", fmt(c)),
+            (Some(c), None) => format!("every c0 tried down to {} U ran ok {regime}", fmt(c)),
         };
         if let Some(at) = &self.at {
             t.push_str(&format!(
-                "; at {} U: {}, {} s",
+                "; at {} U: eps_stat {}, mean-flow error {} % of U",
                 fmt(at.c0_over_u),
-                reason(at),
-                fmt(at.wall_s)
+                fmt(at.eps_stat),
+                fmt(100.0 * at.linf_stat)
             ));
         }
         match &self.above {
             Some((c, class)) => t.push_str(&format!(
-                "; runs {} up to {} U, and at {} U the run was {class}",
-                if self.criterion == Criterion::Ok {
-                    "stayed ok"
-                } else {
-                    "stayed stable"
-                },
+                "; trials stayed ok up to {} U, and at {} U the run was {class}",
                 fmt(self.top.unwrap_or(f64::NAN)),
                 fmt(*c)
             )),
             None => t.push_str(&format!(
-                "; every c0 above it on the map {} too, up to {} U",
-                if self.criterion == Criterion::Ok {
-                    "ran ok"
-                } else {
-                    "ran stably"
-                },
+                "; every trial above it ran ok too, up to {} U",
                 fmt(self.tried_max)
             )),
-        }
-        if !self.isolated_below.is_empty() {
-            let iso: Vec<String> = self
-                .isolated_below
-                .iter()
-                .map(|v| format!("{} U", fmt(*v)))
-                .collect();
-            t.push_str(&format!(
-                "; below the bracket, {} also {} while values between did not (isolated, not counted)",
-                iso.join(", "),
-                if self.criterion == Criterion::Ok { "ran ok" } else { "ran stably" }
-            ));
         }
         t
     }
@@ -176,228 +136,272 @@ fn fmt(v: f64) -> String {
     crate::format::fmt_num(v)
 }
 
-/// One target: a kernel at one Re, with the map's rows there.
-struct Target<'a> {
+/// One target: a kernel at one Re on one discretisation.
+struct Target {
     info: &'static KernelInfo,
-    case: Case,
     kernel: usize,
     /// Index into `empirical.re`.
     re_index: usize,
     re: f64,
-    map: Vec<&'a Row>,
+    case_disc: super::plan::Disc,
 }
 
-/// The empirical c0 for every kernel at every `config.empirical.re`, the
-/// targets in parallel. `None` when the stop flag cut it short.
+/// The engine's search as the report configures it: the perturbed starts'
+/// jitter and seeds, the bisection's tolerance, the rest `c0 --empirical`'s
+/// defaults.
+pub fn search(config: &Config) -> Search {
+    Search {
+        amplitude: config.perturbed.jitter,
+        seeds: config.perturbed.seeds,
+        rel_tol: config.empirical.rel_tol,
+        ..Search::default()
+    }
+}
+
+/// The scene of a target: the built-in scene, the report's `[scene]`, then
+/// the kernel, N, Re, alpha and discretisation.
+pub fn scene(
+    config: &Config,
+    kernel: &str,
+    re: f64,
+    disc: Discretisation,
+) -> Result<Scene, crate::config::SceneError> {
+    let mut over = config.scene.clone();
+    over.insert("kernel".into(), toml::Value::String(kernel.into()));
+    over.insert(
+        "n_layers".into(),
+        toml::Value::Integer(config.maps.n.into()),
+    );
+    over.insert("re".into(), toml::Value::Float(re));
+    over.insert("alpha".into(), toml::Value::Float(config.maps.alpha));
+    over.insert(
+        "lattice".into(),
+        toml::Value::String(disc.lattice.name().into()),
+    );
+    over.insert(
+        "h_over_d".into(),
+        toml::Value::String(disc.h_over_d.to_string()),
+    );
+    over.insert(
+        "linf_bound".into(),
+        toml::Value::Float(config.classes.linf_bound),
+    );
+    over.insert(
+        "eps_margin".into(),
+        toml::Value::Float(config.classes.eps_margin),
+    );
+    Scene::load(None, over)
+}
+
+/// The empirical c0 for every kernel at every `config.empirical.re` on
+/// every discretisation the report runs, the targets in parallel (each
+/// engine on its worker's threads). `None` when the stop flag cut it short.
 pub fn find_all(
     config: &Config,
-    plan: &Plan,
     infos: &[&'static KernelInfo],
-    rows: &[Row],
     par: Parallel,
     stop: &AtomicBool,
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    for case in config.cases() {
+    let discs: Vec<super::plan::Disc> = {
+        let mut v: Vec<_> = config.cases().iter().map(|c| c.disc).collect();
+        v.dedup();
+        v
+    };
+    for &case_disc in &discs {
         for (kernel, &info) in infos.iter().enumerate() {
-            if case.disc.of(info).is_none() {
+            if case_disc.of(info).is_none() {
                 continue;
             }
             for (re_index, &re) in config.empirical.re.iter().enumerate() {
-                let at = Some(config.map_re_of_verdict(re_index));
-                let mut map = plan.map_rows(rows, kernel, case, at);
-                map.retain(|r| r.c0_over_u.is_finite());
-                map.sort_by(|a, b| a.c0_over_u.total_cmp(&b.c0_over_u));
                 targets.push(Target {
                     info,
-                    case,
                     kernel,
                     re_index,
                     re,
-                    map,
+                    case_disc,
                 });
             }
         }
     }
-    // Bisection steps are not known ahead: the bar grows as they start.
+    let s = search(config);
     let results = par.map(
         &targets,
         stop,
         |t| {
-            find_one(
-                config,
-                t,
-                stop,
-                &|| {
-                    bar.inc_length(1);
-                },
-                &|| bar.inc(1),
-            )
+            let (disc, _) = t.case_disc.of(t.info)?;
+            let scene = match scene(config, t.info.name, t.re, disc) {
+                Ok(s) => s,
+                Err(e) => return Some(Err(anyhow::Error::from(e))),
+            };
+            let extras = Extras {
+                ordered: true,
+                ..Extras::default()
+            };
+            match answer(&scene, &s, extras, stop, bar) {
+                Ok(a) => Some(Ok(cases(config, t, disc, a))),
+                Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => None,
+                Err(e) => Some(Err(e)),
+            }
         },
         |_, _| {},
     )?;
     if results.iter().any(Option::is_none) {
         return Ok(None);
     }
-    Ok(Some(results.into_iter().flatten().collect()))
+    let mut out = Vec::new();
+    for r in results.into_iter().flatten() {
+        out.extend(r?);
+    }
+    Ok(Some(out))
 }
 
-fn find_one(
-    config: &Config,
-    t: &Target,
-    stop: &AtomicBool,
-    started: &dyn Fn(),
-    finished: &dyn Fn(),
-) -> Option<Empirical> {
-    let e = &config.empirical;
-    let tried_min = t.map.first().map_or(f64::NAN, |r| r.c0_over_u);
-    let tried_max = t.map.last().map_or(f64::NAN, |r| r.c0_over_u);
-    let mut result = Empirical {
-        kernel: t.info.name.to_string(),
-        kernel_index: t.kernel,
-        re_index: t.re_index,
-        case: t.case,
-        disc: t
-            .case
-            .disc
-            .of(t.info)
-            .map_or_else(Default::default, |(d, _)| d),
-        discretisation: t
-            .case
-            .disc
-            .of(t.info)
-            .map_or(String::new(), |(_, on)| on.label()),
-        n: config.maps.n,
-        re: t.re,
-        alpha: config.maps.alpha,
-        criterion: Criterion::Ok,
-        c0_over_u: None,
-        below: None,
-        below_class: None,
-        below_reason: None,
-        rel_tol: e.rel_tol,
-        tried_min,
-        tried_max,
-        at: None,
-        top: None,
-        above: None,
-        isolated_below: Vec::new(),
-        runs: Vec::new(),
-    };
-    let criterion = if t.map.iter().any(|r| Criterion::Ok.meets(r.class)) {
-        Criterion::Ok
-    } else if t.map.iter().any(|r| Criterion::Stable.meets(r.class)) {
-        Criterion::Stable
-    } else {
-        return Some(result);
-    };
-    result.criterion = criterion;
-    // The block of consecutive values meeting it that ends at the largest one.
-    let top = t
-        .map
-        .iter()
-        .rposition(|r| criterion.meets(r.class))
-        .expect("one meets it");
-    result.top = Some(t.map[top].c0_over_u);
-    result.above = t.map.get(top + 1).map(|r| (r.c0_over_u, r.class));
-    let mut k = top;
-    while k > 0 && criterion.meets(t.map[k - 1].class) {
-        k -= 1;
-    }
-    result.isolated_below = t.map[..k]
-        .iter()
-        .filter(|r| criterion.meets(r.class))
-        .map(|r| r.c0_over_u)
-        .collect();
-    let mut hi: Row = t.map[k].clone();
-    let mut lo: Option<Row> = k.checked_sub(1).map(|j| t.map[j].clone());
-
-    let mut counter = 0usize;
-    let (disc, _) = t.case.disc.of(t.info).expect("a target's discretisation");
-    // One c0 on every start of the case: the worst row, every row kept.
-    let mut run = |c0_over_u: f64, runs: &mut Vec<Row>| -> Option<Row> {
-        let first = runs.len();
-        for seed in config.seeds(t.case.perturbed) {
-            started();
-            let point = Point {
-                disc,
-                start: config.start(seed),
-                ..Point::paper(
-                    counter,
-                    t.info.name,
-                    config.maps.n,
-                    t.re,
-                    config.maps.alpha,
-                    PointC0::OverU(c0_over_u),
-                )
+/// The two cases of one answer: perfect (ordered) and perturbed
+/// (disordered).
+fn cases(config: &Config, t: &Target, disc: Discretisation, a: Answer) -> Vec<Empirical> {
+    let a = Arc::new(a);
+    let u = a.u;
+    [false, true]
+        .into_iter()
+        .map(|perturbed| {
+            let case = Case {
+                disc: t.case_disc,
+                perturbed,
             };
-            counter += 1;
-            runs.push(run_point(&point, &config.scene, &config.classes, stop)?);
-            finished();
-        }
-        Some(worst(runs[first..].iter().collect()).clone())
-    };
-    // Below the map's lowest value, when that one already met it.
-    if lo.is_none() {
-        for _ in 0..e.max_extend {
-            let row = run(hi.c0_over_u / 3.0, &mut result.runs)?;
-            result.tried_min = result.tried_min.min(row.c0_over_u);
-            if criterion.meets(row.class) {
-                hi = row;
+            let (regime, bracket): (Regime, &Bracket) = if perturbed {
+                (Regime::Disordered, &a.disordered)
             } else {
-                lo = Some(row);
-                break;
+                (Regime::Ordered, &a.ordered)
+            };
+            let trials: Vec<&Trial> = a
+                .trials
+                .iter()
+                .filter(|t| match regime {
+                    Regime::Ordered => t.perfect.is_some(),
+                    Regime::Disordered => t.pooled.is_some(),
+                })
+                .collect();
+            let class = |t: &Trial| regime.class(t);
+            let c0_min = bracket.c0_min_ok;
+            let at = c0_min.and_then(|c| trials.iter().find(|t| t.c0 == c));
+            // The block of ok trials from the answer up.
+            let (mut top, mut above) = (None, None);
+            if let Some(c) = c0_min {
+                for t in trials.iter().filter(|t| t.c0 >= c) {
+                    if class(t) == Class::Ok {
+                        top = Some(t.c0 / u);
+                    } else {
+                        above = Some((t.c0 / u, class(t)));
+                        break;
+                    }
+                }
+            }
+            let below = bracket.compressed;
+            let below_trial = below.and_then(|(c, _)| trials.iter().find(|t| t.c0 == c));
+            Empirical {
+                kernel: t.info.name.to_string(),
+                kernel_index: t.kernel,
+                re_index: t.re_index,
+                case,
+                disc,
+                discretisation: a.discretisation.clone(),
+                n: config.maps.n,
+                re: t.re,
+                alpha: config.maps.alpha,
+                c0_over_u: c0_min.map(|c| c / u),
+                below: below.map(|b| b.0 / u),
+                below_class: below.map(|b| b.1),
+                below_reason: below_trial.map(|t| reason(t, regime)),
+                rel_tol: a.search.rel_tol,
+                tried_min: trials.first().map_or(f64::NAN, |t| t.c0 / u),
+                tried_max: trials.last().map_or(f64::NAN, |t| t.c0 / u),
+                at: at.map(|t| at_run(t, regime)),
+                top,
+                above,
+                answer: a.clone(),
+            }
+        })
+        .collect()
+}
+
+fn at_run(t: &Trial, regime: Regime) -> AtRun {
+    match regime {
+        Regime::Ordered => {
+            let p = t.perfect.as_ref().expect("an ordered trial");
+            AtRun {
+                c0_over_u: t.c0_over_u,
+                class: p.class,
+                eps_stat: p.eps_stat,
+                linf_stat: p.linf_stat,
+                steps: p.steps,
+                wall_s: p.wall_s,
+            }
+        }
+        Regime::Disordered => {
+            let p = t.pooled.as_ref().expect("a disordered trial");
+            AtRun {
+                c0_over_u: t.c0_over_u,
+                class: p.class,
+                eps_stat: p.eps_stat,
+                linf_stat: p.linf_stat,
+                steps: t.seeds.iter().map(|s| s.steps).sum::<u64>() / t.seeds.len().max(1) as u64,
+                wall_s: t.seeds.iter().map(|s| s.wall_s).sum(),
             }
         }
     }
-    if let Some(mut below) = lo {
-        while hi.c0_over_u / below.c0_over_u > 1.0 + e.rel_tol {
-            let mid = (hi.c0_over_u * below.c0_over_u).sqrt();
-            let row = run(mid, &mut result.runs)?;
-            if criterion.meets(row.class) {
-                hi = row;
-            } else {
-                below = row;
-            }
-        }
-        result.below = Some(below.c0_over_u);
-        result.below_class = Some(below.class);
-        result.below_reason = Some(reason(&below));
-    }
-    result.c0_over_u = Some(hi.c0_over_u);
-    result.at = Some(hi);
-    Some(result)
 }
 
 /// A row's class with its reason or figures, in a few words.
-pub fn reason(r: &Row) -> String {
+pub fn row_reason(r: &crate::sweep::Row) -> String {
     match r.class {
         Class::Failed => format!("failed: {}", r.failure_reason.clone().unwrap_or_default()),
         Class::OverCompressed => format!(
-            "over-compressed: max eps {} above {}",
-            fmt(r.max_eps),
+            "over-compressed: eps_stat {} above {}",
+            fmt(r.eps_stat),
             fmt(r.eps_bound)
         ),
-        Class::Inaccurate => format!("inaccurate: L_inf {} % of U", fmt(100.0 * r.linf_max)),
-        Class::Ok => format!("ok: L_inf {} % of U", fmt(100.0 * r.linf_max)),
+        Class::Inaccurate => format!(
+            "inaccurate: mean-flow error {} % of U",
+            fmt(100.0 * r.linf_stat)
+        ),
+        Class::Ok => format!("ok: mean-flow error {} % of U", fmt(100.0 * r.linf_stat)),
+    }
+}
+
+/// A trial's class with its reason or figures, in a few words.
+fn reason(t: &Trial, regime: Regime) -> String {
+    let a = at_run(t, regime);
+    let failure = match regime {
+        Regime::Ordered => t.perfect.as_ref().and_then(|p| p.failure.clone()),
+        Regime::Disordered => t.pooled.as_ref().and_then(|p| p.failure.clone()),
+    };
+    match a.class {
+        Class::Failed => format!("failed: {}", failure.unwrap_or_default()),
+        Class::OverCompressed => format!("over-compressed: eps_stat {}", fmt(a.eps_stat)),
+        Class::Inaccurate => format!(
+            "inaccurate: mean-flow error {} % of U",
+            fmt(100.0 * a.linf_stat)
+        ),
+        Class::Ok => format!("ok: mean-flow error {} % of U", fmt(100.0 * a.linf_stat)),
     }
 }
 
 pub fn csv(list: &[Empirical]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,criterion,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,linf_max_at,wall_s_at,bisection_runs,isolated_below,lattice,h_over_d,start\n",
+        "kernel,n,re,alpha,start,c0_over_u,below_c0_over_u,below_class,below_reason,rel_tol,tried_min,tried_max,eps_stat_at,linf_stat_at,wall_s_at,trials,lattice,h_over_d,law_k,law_m,binds\n",
     );
     let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for e in list {
+        let law = e.answer.law.as_ref().filter(|_| e.case.perturbed);
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&e.kernel),
             e.n,
             e.re,
             e.alpha,
-            e.criterion,
+            e.case.start_name(),
             f(e.c0_over_u),
             f(e.below),
             e.below_class.map_or(String::new(), |c| c.to_string()),
@@ -405,20 +409,58 @@ pub fn csv(list: &[Empirical]) -> String {
             e.rel_tol,
             e.tried_min,
             e.tried_max,
-            f(e.at.as_ref().map(|r| r.linf_max)),
+            f(e.at.as_ref().map(|r| r.eps_stat)),
+            f(e.at.as_ref().map(|r| r.linf_stat)),
             f(e.at.as_ref().map(|r| r.wall_s)),
-            e.runs.len(),
-            csv_field(
-                &e.isolated_below
-                    .iter()
-                    .map(|v| v.to_string())
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            ),
+            e.answer.trials.len(),
             e.disc.lattice.name(),
             e.disc.h_over_d,
-            e.case.start_name()
+            f(law.map(|l| l.k)),
+            f(law.map(|l| l.m)),
+            csv_field(
+                &e.answer
+                    .diagnosis
+                    .as_ref()
+                    .filter(|_| e.case.perturbed)
+                    .map_or(String::new(), |d| d.binds.clone())
+            ),
         );
+    }
+    out
+}
+
+/// Every trial of every answer, one row per c0: perfect and pooled classes.
+pub fn trials_csv(list: &[Empirical]) -> String {
+    let mut out = String::from(
+        "kernel,re,lattice,h_over_d,c0_over_u,perfect_class,perfect_eps_stat,perfect_linf_stat,pooled_class,pooled_eps_stat,pooled_eps_stat_min,pooled_eps_stat_max,pooled_linf_stat,stationary_seeds,disordered_seeds,seeds,t_disorder\n",
+    );
+    let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+    for e in list.iter().filter(|e| e.case.perturbed) {
+        for t in &e.answer.trials {
+            let p = t.perfect.as_ref();
+            let s = t.pooled.as_ref();
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                csv_field(&e.kernel),
+                e.re,
+                e.disc.lattice.name(),
+                e.disc.h_over_d,
+                t.c0_over_u,
+                p.map_or(String::new(), |p| p.class.to_string()),
+                f(p.map(|p| p.eps_stat)),
+                f(p.map(|p| p.linf_stat)),
+                s.map_or(String::new(), |s| s.class.to_string()),
+                f(s.map(|s| s.eps_stat)),
+                f(s.map(|s| s.eps_stat_min)),
+                f(s.map(|s| s.eps_stat_max)),
+                f(s.map(|s| s.linf_stat)),
+                s.map_or(String::new(), |s| s.stationary.to_string()),
+                s.map_or(String::new(), |s| s.disordered.to_string()),
+                s.map_or(String::new(), |s| s.seeds.to_string()),
+                f(s.and_then(|s| s.t_disorder)),
+            );
+        }
     }
     out
 }

@@ -114,24 +114,37 @@ pub fn run(
         bar.inc(1);
         bar.set_message(r.id.clone());
     };
-    let (rows, stopped) = sweep::run_points(
-        points,
-        &config.scene,
-        &config.classes,
-        opts.par,
-        stop,
-        &on_row,
-    )?;
-    if stopped {
-        return Err(interrupted());
+    // The speed grid on its fixed horizon, the rest on the stationary one.
+    let mut rows = Vec::new();
+    for speed in [true, false] {
+        let group: Vec<sweep::Point> = points
+            .iter()
+            .zip(&plan.speed)
+            .filter(|(_, s)| **s == speed)
+            .map(|(p, _)| p.clone())
+            .collect();
+        let (r, stopped) = sweep::run_points(
+            &group,
+            &config.base(speed),
+            &config.classes,
+            opts.par,
+            stop,
+            &on_row,
+        )?;
+        if stopped {
+            return Err(interrupted());
+        }
+        rows.extend(r);
     }
+    rows.sort_by_key(|r| r.index);
     log(&format!(
         "report: grid done in {:.1} s",
         start.elapsed().as_secs_f64()
     ));
 
     // 2. The empirical c0.
-    let empirical = empirical::find_all(config, &plan, &infos, &rows, opts.par, stop, bar)?;
+    bar.set_length(bar.position());
+    let empirical = empirical::find_all(config, &infos, opts.par, stop, bar)?;
     if empirical.is_none() {
         return Err(interrupted());
     }
@@ -204,7 +217,7 @@ fn failure_picture(d: &ReportData, map: &[&Row], perturbed: &[&Row]) -> Result<O
     let Some(point) = d.plan.points.get(row.index) else {
         return Ok(None);
     };
-    let scene = point.scene(&d.config.scene)?;
+    let scene = point.scene(&d.config.base(d.plan.speed[row.index]))?;
     let mut quiet = crate::solver::Quiet;
     let mut observer = ParticleOutput::new(&mut quiet, Path::new("."), None);
     let result = crate::run::run_scene(&scene, &mut observer)?;

@@ -13,9 +13,7 @@ use crate::config::{C0Rule, C0Spec};
 use crate::kernel::{DiscretisationInfo, KernelInfo};
 use crate::kernels;
 use crate::problem::c0::all_rules_on;
-use crate::sweep::{
-    worst_over_seeds, ClassRules, Discretisation, HOverD, Point, PointC0, Row, Start,
-};
+use crate::sweep::{pool_rows, ClassRules, Discretisation, HOverD, Point, PointC0, Row, Start};
 
 /// The default report's config.
 pub const DEFAULT_CONFIG: &str = include_str!("report.toml");
@@ -43,7 +41,7 @@ pub struct Config {
 
 /// A config written before the report ran perturbed and square lattices
 /// has no `[perturbed]` or `[square]`: it gets the default report's, every
-/// map Re perturbed (0.05 d, 3 seeds) and the square lattice at the
+/// map Re perturbed (0.05 d, 4 seeds) and the square lattice at the
 /// empirical c0's Re. Left alone when `[maps]` or `[empirical]` is missing
 /// (the error then names those).
 fn fill_missing_lattices(table: &mut toml::Table) {
@@ -54,7 +52,7 @@ fn fill_missing_lattices(table: &mut toml::Table) {
     table.entry("perturbed").or_insert_with(|| {
         let mut t = toml::Table::new();
         t.insert("jitter".into(), toml::Value::Float(0.05));
-        t.insert("seeds".into(), toml::Value::Integer(3));
+        t.insert("seeds".into(), toml::Value::Integer(4));
         t.insert("re".into(), maps_re);
         toml::Value::Table(t)
     });
@@ -67,7 +65,8 @@ fn fill_missing_lattices(table: &mut toml::Table) {
 
 /// Perturbed starts: every map point (at `re`), every rule at the verdicts'
 /// Re and the empirical c0 also run from `seeds` starts jittered by
-/// `jitter` d; a point's perturbed outcome is its worst over the seeds.
+/// `jitter` d; a point's perturbed outcome pools the seeds
+/// (docs/stationary.md).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PerturbedConfig {
@@ -89,6 +88,9 @@ pub struct SquareConfig {
     pub re: Vec<f64>,
 }
 
+/// Speed against accuracy: the start-up problem from rest to the time its
+/// slowest mode falls below `decay_tol` U (a fixed horizon: the cost of a
+/// laminar run to a given accuracy, not the disordered answer).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedConfig {
@@ -96,6 +98,12 @@ pub struct SpeedConfig {
     pub re: Vec<f64>,
     pub alpha: f64,
     pub c0: Vec<String>,
+    #[serde(default = "speed_decay_tol")]
+    pub decay_tol: f64,
+}
+
+fn speed_decay_tol() -> f64 {
+    0.01
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -107,12 +115,17 @@ pub struct MapsConfig {
     pub c0_over_u: Vec<f64>,
 }
 
+/// The empirical c0: the engine's answer (`c0 --empirical`'s) at each Re,
+/// the bisection to `rel_tol`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EmpiricalConfig {
     pub re: Vec<f64>,
     pub rel_tol: f64,
-    pub max_extend: u32,
+    /// Read and ignored: configs written when the bisection started from
+    /// the map's rows had it (the engine brackets its own search now).
+    #[serde(default, skip_serializing)]
+    pub max_extend: Option<u32>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -176,9 +189,12 @@ impl Config {
         if self.maps.c0_over_u.is_empty() || self.maps.re.is_empty() {
             bail!("maps.re and maps.c0_over_u need at least one value each");
         }
-        if self.empirical.rel_tol.is_nan() || self.empirical.rel_tol <= 0.0 {
-            bail!("empirical.rel_tol must be positive");
-        }
+        self.search().check(|field| match field {
+            "amplitude" => "perturbed.jitter".to_string(),
+            "seeds" => "perturbed.seeds".to_string(),
+            "rel_tol" => "empirical.rel_tol".to_string(),
+            f => f.to_string(),
+        })?;
         if self.figure4.samples < 2 {
             bail!("figure4.samples must be at least 2");
         }
@@ -233,12 +249,28 @@ impl Config {
         Case::ALL[..n].to_vec()
     }
 
-    /// The perturbation in words: "jittered by 0.05 d, worst of 3 seeds".
+    /// The perturbation in words: "jittered by 0.05 d, 4 seeds pooled".
     pub fn perturbed_label(&self) -> String {
         format!(
-            "jittered by {} d, worst of {} seeds",
+            "jittered by {} d, {} seeds pooled",
             self.perturbed.jitter, self.perturbed.seeds
         )
+    }
+
+    /// The engine's search as the report asks it.
+    pub fn search(&self) -> crate::empirical::Search {
+        super::empirical::search(self)
+    }
+
+    /// The scene fields under every run: `[scene]`, and for the speed
+    /// grid's runs (`speed`) the fixed horizon of the start-up problem.
+    pub fn base(&self, speed: bool) -> toml::Table {
+        let mut t = self.scene.clone();
+        if speed {
+            t.insert("horizon".into(), toml::Value::String("fixed".into()));
+            t.insert("decay_tol".into(), toml::Value::Float(self.speed.decay_tol));
+        }
+        t
     }
 
     /// The maps' Re (indices into maps.re) a case runs.
@@ -258,19 +290,23 @@ impl Config {
     pub fn plan(&self) -> Plan {
         let infos = self.kernel_infos();
         let mut plan = Plan::default();
-        let mut seen: BTreeMap<String, usize> = BTreeMap::new();
+        // A point of the speed grid runs on its own (fixed) horizon: it is
+        // one scene with the others only when both are speed points.
+        let mut seen: BTreeMap<(bool, String), usize> = BTreeMap::new();
         let mut push = |kernel: usize, p: Point, role: Role| {
             let p = Point {
                 index: plan.points.len(),
                 ..p
             };
+            let speed = matches!(role, Role::Speed { .. });
             let key = Key { kernel, role };
-            match seen.get(&p.id()) {
+            match seen.get(&(speed, p.id())) {
                 Some(&i) => plan.keys[i].push(key),
                 None => {
-                    seen.insert(p.id(), plan.points.len());
+                    seen.insert((speed, p.id()), plan.points.len());
                     plan.points.push(p);
                     plan.keys.push(vec![key]);
+                    plan.speed.push(speed);
                 }
             }
         };
@@ -482,6 +518,9 @@ pub struct Key {
 pub struct Plan {
     pub points: Vec<Point>,
     pub keys: Vec<Vec<Key>>,
+    /// Whether each point is the speed grid's (run on its fixed horizon,
+    /// [`Config::base`]).
+    pub speed: Vec<bool>,
 }
 
 impl Plan {
@@ -497,16 +536,10 @@ impl Plan {
     }
 
     /// Kernel `kernel`'s stability-map rows of case `case` at `maps.re[re]`,
-    /// or at every Re, over its seeds: one row per map point, the worst of
-    /// its seeds' (the perfect start's own row), in grid order.
-    pub fn map_rows<'a>(
-        &self,
-        rows: &'a [Row],
-        kernel: usize,
-        case: Case,
-        re: Option<usize>,
-    ) -> Vec<&'a Row> {
-        let mut groups: BTreeMap<(usize, usize), Vec<&'a Row>> = BTreeMap::new();
+    /// or at every Re, over its seeds: one row per map point, its seeds
+    /// pooled (the perfect start's own row), in grid order.
+    pub fn map_rows(&self, rows: &[Row], kernel: usize, case: Case, re: Option<usize>) -> Vec<Row> {
+        let mut groups: BTreeMap<(usize, usize), Vec<&Row>> = BTreeMap::new();
         for r in rows {
             for key in self.keys.get(r.index).into_iter().flatten() {
                 if let Role::Map {
@@ -526,43 +559,28 @@ impl Plan {
                 }
             }
         }
-        let mut out: Vec<&'a Row> = groups.into_values().map(worst).collect();
+        let mut out: Vec<Row> = groups.into_values().map(|g| pool_rows(&g)).collect();
         out.sort_by_key(|r| r.index);
         out
     }
 
-    /// The row (the worst over the seeds) of kernel `kernel`'s rule `rule`
-    /// at `empirical.re[re]` in case `case`.
-    pub fn rule_row<'a>(
+    /// The row (the seeds pooled) of kernel `kernel`'s rule `rule` at
+    /// `empirical.re[re]` in case `case`.
+    pub fn rule_row(
         &self,
-        rows: &'a [Row],
+        rows: &[Row],
         kernel: usize,
         case: Case,
         re: usize,
         rule: &C0Rule,
-    ) -> Option<&'a Row> {
+    ) -> Option<Row> {
         let seeds = self.rows(rows, |k| {
             k.kernel == kernel
                 && matches!(&k.role, Role::Rule { disc, seed, re: r, rule: x }
                     if *disc == case.disc && (*seed > 0) == case.perturbed && *r == re && x == rule)
         });
-        (!seeds.is_empty()).then(|| worst(seeds))
+        (!seeds.is_empty()).then(|| pool_rows(&seeds))
     }
-}
-
-/// The worst of one point's rows over its seeds (failed > over-compressed >
-/// inaccurate > ok, then the larger error: [`worst_over_seeds`]).
-pub fn worst(seeds: Vec<&Row>) -> &Row {
-    let owned: Vec<Row> = seeds.iter().map(|r| (*r).clone()).collect();
-    let folded = worst_over_seeds(&owned);
-    let w = folded
-        .first()
-        .map(|g| g.worst.index)
-        .expect("at least one row");
-    seeds
-        .into_iter()
-        .find(|r| r.index == w)
-        .expect("the worst is one of them")
 }
 
 #[cfg(test)]
@@ -586,7 +604,7 @@ mod tests {
         assert!(!old.contains("[perturbed]") && !old.contains("[square]"));
         let c = Config::parse(&old, "old.toml").expect("an old config parses");
         let q = Config::quick();
-        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 3));
+        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 4));
         assert_eq!(c.perturbed.re, q.maps.re);
         assert_eq!(c.square.re, q.empirical.re);
         assert_eq!(c.maps.re, q.maps.re);

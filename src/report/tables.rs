@@ -232,8 +232,9 @@ pub struct C0Compare {
     /// The run (None when the rule gives no positive c0).
     pub class: Option<Class>,
     pub reason: Option<String>,
-    pub linf_max: f64,
-    pub max_eps: f64,
+    /// The run's judged statistics (the seeds pooled when perturbed).
+    pub linf_stat: f64,
+    pub eps_stat: f64,
     pub wall_s: f64,
     pub steps: u64,
     /// The limit that bound most of the run's steps.
@@ -291,7 +292,7 @@ fn compare_at(
     let mut out = Vec::new();
     for (rule, t) in all_rules_on(info, on).into_iter().zip(&table.rows) {
         let run = plan.rule_row(rows, ki, case, ri, &rule);
-        let ran = run.filter(|r| r.steps > 0);
+        let ran = run.as_ref().filter(|r| r.steps > 0);
         let cost = t.cost.as_ref();
         out.push(C0Compare {
             kernel: info.name.to_string(),
@@ -310,10 +311,10 @@ fn compare_at(
             dt_limit: cost.map(|c| c.dt_limit),
             steps_est: cost.map_or(f64::NAN, |c| c.steps),
             particle_steps_est: cost.map_or(f64::NAN, |c| c.steps * particles),
-            class: run.map(|r| r.class),
-            reason: run.map(super::empirical::reason),
-            linf_max: ran.map_or(f64::NAN, |r| r.linf_max),
-            max_eps: ran.map_or(f64::NAN, |r| r.max_eps),
+            class: run.as_ref().map(|r| r.class),
+            reason: run.as_ref().map(super::empirical::row_reason),
+            linf_stat: ran.map_or(f64::NAN, |r| r.linf_stat),
+            eps_stat: ran.map_or(f64::NAN, |r| r.eps_stat),
             wall_s: ran.map_or(f64::NAN, |r| r.wall_s),
             steps: ran.map_or(0, |r| r.steps),
             run_dt_limit_dominant: ran.and_then(|r| r.dt_limit_dominant),
@@ -324,7 +325,7 @@ fn compare_at(
 
 pub fn c0_compare_csv(list: &[C0Compare]) -> String {
     let mut out = String::from(
-        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_max,max_eps,wall_s,steps,run_dt_limit_dominant,lattice,h_over_d,start\n",
+        "kernel,n,re,alpha,rule,default_model,c0_over_u,dt,dt_limit,steps_est,particle_steps_est,class,reason,linf_stat,eps_stat,wall_s,steps,run_dt_limit_dominant,lattice,h_over_d,start\n",
     );
     for c in list {
         let _ = writeln!(
@@ -343,8 +344,8 @@ pub fn c0_compare_csv(list: &[C0Compare]) -> String {
             c.particle_steps_est,
             c.class.map_or(String::new(), |k| k.to_string()),
             csv_field(&c.reason.clone().unwrap_or_default()),
-            c.linf_max,
-            c.max_eps,
+            c.linf_stat,
+            c.eps_stat,
             c.wall_s,
             c.steps,
             c.run_dt_limit_dominant.map_or("", DtLimit::name),

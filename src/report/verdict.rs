@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::empirical::{Criterion, Empirical};
+use super::empirical::Empirical;
 use super::plan::{Case, Config};
 use super::tables::C0Compare;
 use crate::config::C0Rule;
@@ -45,7 +45,8 @@ pub struct VerdictAtRe {
     pub derived_c0_over_u: Option<f64>,
     pub derived_class: Option<Class>,
     pub empirical_c0_over_u: Option<f64>,
-    pub empirical_criterion: String,
+    /// `disordered` (the pooled seeds) or `ordered` (the perfect lattice).
+    pub empirical_regime: String,
     pub rule10_class: Option<Class>,
     pub sentences: Vec<String>,
 }
@@ -66,9 +67,9 @@ fn run_words(c: &C0Compare) -> String {
                 .trim_start_matches("failed: ")
         ),
         Some(class) => format!(
-            "ran {class} (L_inf {} of U, max eps {}; {} s, {} steps, dt bound by the {} limit)",
-            pct(c.linf_max),
-            fmt_num(c.max_eps),
+            "ran {class} (mean-flow error {} of U, eps_stat {}; {} s, {} steps, dt bound by the {} limit)",
+            pct(c.linf_stat),
+            fmt_num(c.eps_stat),
             fmt_num(c.wall_s),
             c.steps,
             c.run_dt_limit_dominant.map_or("", DtLimit::name)
@@ -217,7 +218,13 @@ fn verdict_at(config: &Config, re: f64, at: &AtRe) -> VerdictAtRe {
             .and_then(|d| d.class)
             .filter(|_| derived_c0.is_some()),
         empirical_c0_over_u: emp_c0,
-        empirical_criterion: at.emp.map_or(String::new(), |e| e.criterion.to_string()),
+        empirical_regime: at.emp.map_or(String::new(), |e| {
+            if e.case.perturbed {
+                "disordered".to_string()
+            } else {
+                "ordered".to_string()
+            }
+        }),
         rule10_class: at.rule10.and_then(|r| r.class),
         sentences: s,
     }
@@ -249,7 +256,7 @@ fn derived_sentence(at: &AtRe) -> String {
 fn conclusion(config: &Config, at: &AtRe, d: &C0Compare, c: f64) -> String {
     let emp = at.emp;
     let emp_c0 = emp.and_then(|e| e.c0_over_u);
-    let emp_ok = emp.is_some_and(|e| e.criterion == Criterion::Ok);
+    let emp_ok = emp.is_some_and(|e| e.c0_over_u.is_some());
     let ok = d.class == Some(Class::Ok);
     let mut t = if ok {
         "So the derived c0 was sufficient here".to_string()
@@ -305,7 +312,7 @@ fn conclusion(config: &Config, at: &AtRe, d: &C0Compare, c: f64) -> String {
 /// The conclusion at one Re when the derivation gives no c0 to run.
 fn no_derived_conclusion(at: &AtRe) -> String {
     let emp = at.emp;
-    let emp_ok = emp.is_some_and(|e| e.criterion == Criterion::Ok);
+    let emp_ok = emp.is_some_and(|e| e.c0_over_u.is_some());
     match (emp.and_then(|e| e.c0_over_u), emp_ok) {
         (Some(e), true) => format!(
             "So the derivation gives nothing to use here, while runs were ok from {} U{}.",

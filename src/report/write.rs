@@ -123,7 +123,8 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
                 continue;
             };
             let k = info.name;
-            let here = d.plan.map_rows(&d.rows, ki, case, None);
+            let here_rows = d.plan.map_rows(&d.rows, ki, case, None);
+            let here: Vec<&Row> = here_rows.iter().collect();
             let cells = map_cells(&here);
             let res: Vec<f64> = cells.iter().map(|c| c.re).collect();
             let lines = rule_lines_on(k, disc, &d.config.scene, m.n, m.alpha, &res)?;
@@ -131,10 +132,7 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
                 .empirical
                 .iter()
                 .filter(|e| e.kernel_index == ki && e.case == case)
-                .filter_map(|e| {
-                    e.c0_over_u
-                        .map(|c| (format!("empirical ({})", e.criterion), e.re, c))
-                })
+                .filter_map(|e| e.c0_over_u.map(|c| ("empirical".to_string(), e.re, c)))
                 .collect();
             let start = match case.perturbed {
                 false => "perfect lattice".to_string(),
@@ -158,7 +156,8 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
                 &[&csv, &lines_csv],
             )?;
             if case == Case::PAPER {
-                let perturbed = d.plan.map_rows(&d.rows, ki, Case::ALL[1], None);
+                let perturbed_rows = d.plan.map_rows(&d.rows, ki, Case::ALL[1], None);
+                let perturbed: Vec<&Row> = perturbed_rows.iter().collect();
                 if let Some(svg) = failure_picture(d, &here, &perturbed)? {
                     f.figure("failure", &format!("failure_{k}.svg"), svg, &[])?;
                 }
@@ -206,11 +205,9 @@ fn tables(d: &ReportData, f: &Folder) -> Result<()> {
     f.put("table2.csv", &tables::table2_csv(&d.table2))?;
     f.put("c0_compare.csv", &tables::c0_compare_csv(&d.c0_compare))?;
     f.put("empirical_c0.csv", &empirical::csv(&d.empirical))?;
-    let bisection: Vec<Row> = d
-        .empirical
-        .iter()
-        .flat_map(|e| e.runs.iter().cloned())
-        .collect();
-    f.put("empirical_c0_runs.csv", &store::rows_csv(&bisection))?;
+    f.put(
+        "empirical_c0_trials.csv",
+        &empirical::trials_csv(&d.empirical),
+    )?;
     f.put("verdicts.json", &serde_json::to_string_pretty(&d.verdicts)?)
 }

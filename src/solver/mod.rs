@@ -17,6 +17,7 @@ pub mod ideal_shear;
 pub mod neighbours;
 mod result;
 mod step;
+pub mod window;
 
 use std::marker::PhantomData;
 use std::time::Instant;
@@ -35,6 +36,7 @@ pub use frame::ParticleFrame;
 pub use result::{
     classify, Class, DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult,
 };
+pub use window::{Regime, Window};
 
 /// Useful floating-point operations of one step per directed pair within
 /// the support, given the kernel's own count for W and (dW/dq)/q
@@ -351,14 +353,20 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
 
     let mut frames = observer.wants_particles().then(FrameBuf::default);
     let mut samples = Vec::new();
-    let mut observe = |sim: &Sim, sample: Sample, observer: &mut dyn Observer| {
-        observer.output(&sample);
-        if let Some(buf) = frames.as_mut() {
-            observer.particles(&buf.frame(&sim.s, sim.problem, sample.t));
-        }
-        samples.push(sample);
-    };
-    observe(&sim, sim.sample(0.0, 0, dt_stats.last), observer);
+    let mut observe =
+        |sim: &Sim, sample: Sample, observer: &mut dyn Observer, samples: &mut Vec<Sample>| {
+            observer.output(&sample);
+            if let Some(buf) = frames.as_mut() {
+                observer.particles(&buf.frame(&sim.s, sim.problem, sample.t));
+            }
+            samples.push(sample);
+        };
+    observe(
+        &sim,
+        sim.sample(0.0, 0, dt_stats.last),
+        observer,
+        &mut samples,
+    );
 
     let t_end = problem.t_end;
     let mut t = 0.0;
@@ -391,7 +399,7 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         observer.step(t, steps);
 
         if let Some(failure) = sim.failure(&check) {
-            observe(&sim, sim.sample(t, steps, dt), observer);
+            observe(&sim, sim.sample(t, steps, dt), observer, &mut samples);
             outcome = Outcome::Failed {
                 particle: sim.culprit(&failure),
                 failure,
@@ -402,19 +410,40 @@ fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunRes
         }
         if landing {
             outputs_done += 1;
-            observe(&sim, sim.sample(t, steps, dt_stats.last), observer);
+            observe(
+                &sim,
+                sim.sample(t, steps, dt_stats.last),
+                observer,
+                &mut samples,
+            );
+            // A stationary horizon ends at the first checkpoint whose
+            // window is stationary.
+            if problem.horizon.may_stop_at(t) {
+                let (from, to) = problem.horizon.window(t);
+                if window::window(&samples, from, to, problem.flow.u).stationary {
+                    break;
+                }
+            }
         }
         if observer.should_stop() {
             // The last sample at the time reached, unless this step took it.
             if !landing {
-                observe(&sim, sim.sample(t, steps, dt_stats.last), observer);
+                observe(
+                    &sim,
+                    sim.sample(t, steps, dt_stats.last),
+                    observer,
+                    &mut samples,
+                );
             }
             outcome = Outcome::Interrupted { t, step: steps };
             break;
         }
     }
 
+    let (from, to) = problem.horizon.window(t);
     RunResult {
+        window: window::window(&samples, from, to, problem.flow.u),
+        t_disorder: window::t_disorder(&samples),
         problem: problem.clone(),
         kernel: K::NAME,
         n_fluid: sim.s.n_fluid,

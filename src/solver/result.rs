@@ -6,7 +6,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use super::Sample;
+use super::{Sample, Window};
 use crate::config::ClassRules;
 use crate::problem::cost::{DtLimit, TimeStep};
 use crate::problem::Problem;
@@ -247,6 +247,11 @@ pub struct RunResult {
     pub outcome: Outcome,
     /// Diagnostics at t = 0, every output time, and at a failure.
     pub samples: Vec<Sample>,
+    /// The window the run is judged on (the later half of its time after
+    /// the start-up, see [`crate::problem::horizon::Horizon::window`]).
+    pub window: Window,
+    /// The first output time with dy_rms >= 0.1 d (None: stayed ordered).
+    pub t_disorder: Option<f64>,
     /// Largest fluid compaction over every step.
     pub max_eps_run: f64,
     pub neighbour_rebuilds: u64,
@@ -257,27 +262,21 @@ pub struct RunResult {
 }
 
 impl RunResult {
-    /// The compaction above which this run is over-compressed: the kernel's
-    /// eps0 plus the margin; on a jittered start, the start's own largest
-    /// compaction plus the margin when that is higher (a perturbed lattice
-    /// starts compacted, at any c0: that is no fault of c0). A perfect
-    /// lattice's bound is the kernel's alone.
+    /// The compaction above which this run's window is over-compressed:
+    /// the kernel's ordered-lattice pulsation eps0 (if positive) plus the
+    /// margin, whatever the start ([`ClassRules::eps_bound`]).
     pub fn eps_bound(&self, rules: &ClassRules) -> f64 {
-        let kernel = rules.eps_bound(self.problem.discretisation);
-        match self.samples.first() {
-            Some(s0) if self.problem.jitter > 0.0 => kernel.max(s0.max_eps + rules.eps_margin),
-            _ => kernel,
-        }
+        rules.eps_bound(self.problem.discretisation)
     }
 
     /// The run's class under `rules`: `failed` when the run failed (or was
-    /// stopped), else by its worst L_inf error and largest compaction, see
+    /// stopped), else by its window's mean-flow error and compaction, see
     /// [`classify`].
     pub fn class(&self, rules: &ClassRules) -> Class {
         match self.outcome {
             Outcome::Ok => classify(
-                self.linf_rel_err_max(),
-                self.max_eps_run,
+                self.window.linf_stat,
+                self.window.eps_stat,
                 rules.linf_bound,
                 self.eps_bound(rules),
             ),

@@ -27,7 +27,7 @@ pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
 pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
 pub use grid::{Point, PointC0, SweepSpec};
-pub use row::{worst_over_seeds, OverSeeds, Row};
+pub use row::{pool_over_seeds, pool_rows, OverSeeds, Row};
 pub use shard::Shard;
 
 use std::collections::BTreeSet;

@@ -188,55 +188,61 @@ fn migrate_flat_row(o: &mut serde_json::Map<String, serde_json::Value>) {
 pub struct OverSeeds<'a> {
     /// The rows' common position, with seed 0.
     pub at: At,
-    /// The worst class over the seeds: failed > over-compressed >
-    /// inaccurate > ok.
-    pub class: Class,
-    /// The row that had it: its failure kind and reason, its errors. Among
-    /// seeds of the same class, the one with the larger worst L_inf error
-    /// (NaN the largest), then the lower seed.
-    pub worst: &'a Row,
+    /// The seeds pooled as `empirical::trial::pool` pools them
+    /// (docs/stationary.md): failed when any seed failed (that seed's row,
+    /// its failure kind and reason); else the first seed's row with the
+    /// means over the seeds of `eps_stat` and `linf_stat`, classified by the
+    /// rows' own bounds, and `stationary` only if every seed was.
+    pub pooled: Row,
     /// Every seed's row, in the order given.
     pub rows: Vec<&'a Row>,
 }
 
+impl OverSeeds<'_> {
+    pub fn class(&self) -> Class {
+        self.pooled.class
+    }
+}
+
+/// The pooled row of one point's seeds (see [`OverSeeds::pooled`]).
+pub fn pool_rows(rows: &[&Row]) -> Row {
+    if let Some(failed) = rows.iter().find(|r| r.class == Class::Failed) {
+        return (*failed).clone();
+    }
+    let first = rows.first().expect("a point has a row");
+    let n = rows.len() as f64;
+    let mean = |f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| f(r)).sum::<f64>() / n;
+    let mut r = (*first).clone();
+    r.eps_stat = mean(&|r| r.eps_stat);
+    r.linf_stat = mean(&|r| r.linf_stat);
+    r.stationary = rows.iter().all(|r| r.stationary);
+    r.class = super::classify(r.linf_stat, r.eps_stat, r.linf_bound, r.eps_bound);
+    r
+}
+
 /// Fold `rows` over seeds: one [`OverSeeds`] per point without its seed,
 /// in the order of each group's first row.
-pub fn worst_over_seeds(rows: &[Row]) -> Vec<OverSeeds<'_>> {
-    fn worse(a: &Row, b: &Row) -> bool {
-        let err = |r: &Row| {
-            if r.linf_max.is_nan() {
-                f64::INFINITY
-            } else {
-                r.linf_max
-            }
-        };
-        (a.class, err(a), std::cmp::Reverse(a.seed)) > (b.class, err(b), std::cmp::Reverse(b.seed))
-    }
-    let mut out: Vec<OverSeeds> = Vec::new();
-    let mut group: std::collections::HashMap<At, usize> = std::collections::HashMap::new();
+pub fn pool_over_seeds(rows: &[Row]) -> Vec<OverSeeds<'_>> {
+    let mut groups: Vec<(At, Vec<&Row>)> = Vec::new();
+    let mut index: std::collections::HashMap<At, usize> = std::collections::HashMap::new();
     for r in rows {
         let at = r.at.without_seed();
-        match group.get(&at) {
-            Some(&i) => {
-                let g = &mut out[i];
-                g.rows.push(r);
-                if worse(r, g.worst) {
-                    g.worst = r;
-                    g.class = r.class;
-                }
-            }
+        match index.get(&at) {
+            Some(&i) => groups[i].1.push(r),
             None => {
-                group.insert(at, out.len());
-                out.push(OverSeeds {
-                    at,
-                    class: r.class,
-                    worst: r,
-                    rows: vec![r],
-                });
+                index.insert(at, groups.len());
+                groups.push((at, vec![r]));
             }
         }
     }
-    out
+    groups
+        .into_iter()
+        .map(|(at, rows)| OverSeeds {
+            at,
+            pooled: pool_rows(&rows),
+            rows,
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -245,8 +251,8 @@ mod tests {
     use crate::sweep::{Discretisation, PointC0};
 
     #[test]
-    fn a_perturbed_point_is_its_worst_seed() {
-        let row = |seed: u32, class: Class, linf_max: f64, reason: &str| {
+    fn a_perturbed_point_pools_its_seeds() {
+        let row = |seed: u32, class: Class, eps: f64, linf: f64, reason: &str| {
             let mut p = Point::paper(0, "monaghan", 10, 1.0, 0.1, PointC0::OverU(1.0));
             p.disc = Discretisation::PAPER;
             if seed > 0 {
@@ -259,41 +265,37 @@ mod tests {
             }
             let mut r = Row::not_run(&p, FailureKind::Scene, reason.into(), 1.0, "value".into());
             r.class = class;
-            r.linf_max = linf_max;
+            r.eps_stat = eps;
+            r.linf_stat = linf;
+            r.eps_bound = 0.012;
+            r.linf_bound = 0.05;
+            r.stationary = true;
             r
         };
+        // Two seeds over-compressed and two ok by their own windows pool
+        // to the mean compaction 0.011: ok.
         let rows = vec![
-            row(0, Class::Ok, 0.01, "perfect"),
-            row(1, Class::Inaccurate, 0.07, "one"),
-            row(2, Class::OverCompressed, 0.02, "two"),
-            row(3, Class::Inaccurate, 0.09, "three"),
-            row(4, Class::OverCompressed, 0.03, "four"),
+            row(0, Class::Ok, 0.001, 0.01, "perfect"),
+            row(1, Class::OverCompressed, 0.014, 0.01, "one"),
+            row(2, Class::Ok, 0.008, 0.02, "two"),
+            row(3, Class::OverCompressed, 0.013, 0.03, "three"),
+            row(4, Class::Ok, 0.009, 0.02, "four"),
         ];
-        let folded = worst_over_seeds(&rows);
+        let folded = pool_over_seeds(&rows);
         assert_eq!(folded.len(), 2);
-        assert_eq!((folded[0].class, folded[0].rows.len()), (Class::Ok, 1));
+        assert_eq!((folded[0].class(), folded[0].rows.len()), (Class::Ok, 1));
         let p = &folded[1];
-        assert_eq!(
-            (p.class, p.rows.len(), p.at.seed),
-            (Class::OverCompressed, 4, 0)
-        );
-        assert_eq!(
-            p.worst.failure_reason.as_deref(),
-            Some("four"),
-            "ties: the larger error"
-        );
-        // failed beats every other class, whatever the errors
+        assert_eq!((p.class(), p.rows.len(), p.at.seed), (Class::Ok, 4, 0));
+        assert!((p.pooled.eps_stat - 0.011).abs() < 1e-15);
+        assert!((p.pooled.linf_stat - 0.02).abs() < 1e-15);
+        // One seed failed: the point failed, with that seed's reason.
         let mut rows = rows;
-        rows.push(row(5, Class::Failed, f64::NAN, "five"));
-        rows[1].linf_max = 10.0;
-        let folded = worst_over_seeds(&rows);
-        assert_eq!(folded[1].class, Class::Failed);
-        assert_eq!(folded[1].worst.failure_reason.as_deref(), Some("five"));
-        // inaccurate only over ok
-        let folded = worst_over_seeds(&rows[..2]);
-        assert_eq!(
-            folded.iter().map(|g| g.class).collect::<Vec<_>>(),
-            [Class::Ok, Class::Inaccurate]
-        );
+        rows.push(row(5, Class::Failed, f64::NAN, f64::NAN, "five"));
+        let folded = pool_over_seeds(&rows);
+        assert_eq!(folded[1].class(), Class::Failed);
+        assert_eq!(folded[1].pooled.failure_reason.as_deref(), Some("five"));
+        // The mean over the bound: over-compressed.
+        let folded = pool_over_seeds(&rows[1..4]);
+        assert_eq!(folded[0].class(), Class::OverCompressed);
     }
 }

@@ -121,6 +121,17 @@ pub const CSV_COLUMNS: &[&str] = &[
     "t_end",
     "t",
     "wall_s",
+    "horizon",
+    "window_from",
+    "window_to",
+    "stationary",
+    "regime",
+    "eps_stat",
+    "eps_max_mean",
+    "linf_stat",
+    "rms_v_stat",
+    "dy_rms",
+    "t_disorder",
 ];
 
 fn csv_fields(r: &Row) -> Vec<String> {
@@ -164,6 +175,17 @@ fn csv_fields(r: &Row) -> Vec<String> {
         f(r.t_end),
         f(r.t),
         f(r.wall_s),
+        r.horizon.to_string(),
+        f(r.window_from),
+        f(r.window_to),
+        r.stationary.to_string(),
+        r.regime.to_string(),
+        f(r.eps_stat),
+        f(r.eps_max_mean),
+        f(r.linf_stat),
+        f(r.rms_v_stat / r.u),
+        f(r.dy_rms),
+        r.t_disorder.map_or(String::new(), f),
     ]
 }
 

@@ -114,7 +114,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         d.wall_s,
         d.jobs,
         d.rows.len(),
-        d.empirical.iter().map(|e| e.runs.len()).sum::<usize>()
+        d.empirical.iter().filter(|e| e.case.perturbed).map(|e| e.answer.horizon.runs).sum::<usize>()
     );
     h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
 

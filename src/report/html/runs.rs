@@ -38,7 +38,7 @@ pub(super) fn c0_by_rule(h: &mut String, d: &ReportData) {
         "<p>At N = {}, alpha = {}; dt is the smallest of the CFL (0.25 h/(c0 + U)), viscous (0.125 h²/ν) and force limits; the estimates take |v| = U and |a| = p. The run columns are the solver's.</p>",
         c.maps.n, c.maps.alpha
     );
-    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">rule</th><th>c0 / U</th><th>dt</th><th class=\"l\">limit</th><th>steps (est.)</th><th>particle-steps (est.)</th><th>class</th><th>L_inf / U</th><th>max eps</th><th>wall s</th></tr>\n");
+    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">rule</th><th>c0 / U</th><th>dt</th><th class=\"l\">limit</th><th>steps (est.)</th><th>particle-steps (est.)</th><th>class</th><th>mean-flow L_inf / U</th><th>eps_stat</th><th>wall s</th></tr>\n");
     for r in &d.c0_compare {
         let _ = writeln!(
             h,
@@ -53,8 +53,8 @@ pub(super) fn c0_by_rule(h: &mut String, d: &ReportData) {
             num(r.steps_est),
             num(r.particle_steps_est),
             class_cell(r.class),
-            num(r.linf_max),
-            num(r.max_eps),
+            num(r.linf_stat),
+            num(r.eps_stat),
             num(r.wall_s)
         );
     }
@@ -132,10 +132,10 @@ pub(super) fn empirical(h: &mut String, d: &ReportData) {
     h.push_str("<h2 id=\"empirical\">Empirical c0</h2>\n");
     let _ = writeln!(
         h,
-        "<p>The smallest c0 at which the run is ok: bisection on log c0 (solver in the loop) between the map's smallest ok value and the value below it, to {} % relative. If no c0 on the map ran ok, the criterion is \"stable\" (neither failed nor over-compressed), and says so.</p>",
+        "<p>The smallest c0 at which the run is ok, by the engine of <code>shearsph c0 --empirical</code> (the same answer for the same scene): from 10 U by steps of sqrt 10 to a bracket, then bisection on log c0 to {} % relative, each run to its stationary horizon (docs/stationary.md). Perturbed: the stationary, disordered state of the pooled seeds; perfect: the perfect lattice, the ordered regime.</p>",
         num(100.0 * c.empirical.rel_tol)
     );
-    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">criterion</th><th>empirical c0 / U</th><th>below it</th><th class=\"l\">run below</th><th>derived c0 / U (default)</th><th>Table 2 c0 / U</th><th>rule c0 / U</th><th>bisection runs</th><th class=\"l\">isolated ok values below (not counted)</th></tr>\n");
+    h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th>empirical c0 / U</th><th>below it</th><th class=\"l\">run below</th><th>derived c0 / U (default)</th><th>Table 2 c0 / U</th><th>rule c0 / U</th><th>trials</th><th class=\"l\">disordered law k, m</th></tr>\n");
     for e in &d.empirical {
         let rule_c0 = |want: &dyn Fn(&C0Compare) -> bool| {
             d.c0_compare
@@ -146,10 +146,9 @@ pub(super) fn empirical(h: &mut String, d: &ReportData) {
         let derived = rule_c0(&|x| x.default_model);
         let _ = writeln!(
             h,
-            "<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td><b>{}</b></td><td>{}</td><td class=\"l wrap\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td><td class=\"l\">{}</td></tr>",
+            "<tr><td class=\"l\">{}</td><td>{}</td><td><b>{}</b></td><td>{}</td><td class=\"l wrap\">{}</td><td>{}</td><td>{}</td><td>10</td><td>{}</td><td class=\"l\">{}</td></tr>",
             esc(&format!("{} ({}, {})", e.kernel, e.discretisation, e.case.start_name())),
             num(e.re),
-            e.criterion,
             e.c0_over_u.map_or("none".into(), num),
             e.below.map_or("–".into(), num),
             esc(e.below_reason.as_deref().unwrap_or("–")),
@@ -159,13 +158,13 @@ pub(super) fn empirical(h: &mut String, d: &ReportData) {
                 None => "–".into(),
             },
             rule_c0(&|x| x.rule == C0Rule::Table2).map_or("–".into(), num),
-            e.runs.len(),
-            if e.isolated_below.is_empty() {
-                "–".to_string()
-            } else {
-                e.isolated_below.iter().map(|v| format!("{} U", num(*v))).collect::<Vec<_>>().join(", ")
-            }
+            e.answer.trials.len(),
+            e.answer
+                .law
+                .as_ref()
+                .filter(|_| e.case.perturbed)
+                .map_or("–".to_string(), |l| format!("{}, {} ± {}", num(l.k), num(l.m), num(l.m_se)))
         );
     }
-    h.push_str("</table>\n<p>Data: <a href=\"empirical_c0.csv\">empirical_c0.csv</a>, the bisection's runs <a href=\"empirical_c0_runs.csv\">empirical_c0_runs.csv</a>.</p>\n");
+    h.push_str("</table>\n<p>Data: <a href=\"empirical_c0.csv\">empirical_c0.csv</a>, every trial <a href=\"empirical_c0_trials.csv\">empirical_c0_trials.csv</a>.</p>\n");
 }

@@ -1,0 +1,153 @@
+//! When no c0 is ok, which limit binds and what would allow one. The
+//! classes in c0 run compressed, then ok, then inaccurate: no c0 is ok when
+//! the search found compression at every c0 it could try, or when the first
+//! c0 that does not compress is already inaccurate. In the second case the
+//! artificial viscosity (31) is the suspect: it adds about alpha c0 h / 8
+//! to the viscosity nu, a share that grows with c0, so the c0 the
+//! compaction needs can be past the c0 the accuracy allows. What would
+//! allow a c0 is estimated from that share (alpha, or N at the same Re,
+//! scaled so the share at the needed c0 is the share where the runs were
+//! accurate) and from the disordered law (the tolerance that the accurate
+//! c0 meets), and the alpha estimate is checked with a run.
+
+use anyhow::Result;
+use serde::Serialize;
+
+use super::law::DisorderedLaw;
+use super::search::Bracket;
+use super::trial::Trial;
+use crate::config::Scene;
+use crate::format::fmt_num;
+use crate::problem::channel::Channel;
+use crate::solver::Class;
+
+/// Why no c0 is ok, and what would allow one.
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    /// The limit that binds, in words.
+    pub binds: String,
+    /// The smallest c0 / U that does not compress (None: none found).
+    pub c0_compaction_over_u: Option<f64>,
+    /// The largest c0 / U tried whose mean flow was accurate (None: none).
+    pub c0_accuracy_over_u: Option<f64>,
+    /// alpha c0 h / (8 nu) at the compaction's c0.
+    pub av_share: Option<f64>,
+    /// Changes that would allow a c0, in words (estimates, and the check).
+    pub would: Vec<String>,
+    /// The check of the alpha estimate: alpha and the pooled class at the
+    /// compaction's c0.
+    pub checked_alpha: Option<(f64, Class)>,
+}
+
+/// The diagnosis from the search's bracket and trials; `trial` runs one c0
+/// of another scene (for the check).
+pub fn diagnose(
+    scene: &Scene,
+    channel: &Channel,
+    bracket: &Bracket,
+    trials: &[Trial],
+    law: Option<&DisorderedLaw>,
+    trial: &mut dyn FnMut(&Scene, f64) -> Result<Trial>,
+) -> Result<Diagnosis> {
+    let u = channel.flow.u;
+    let nu = channel.flow.nu;
+    let h = channel.lattice.h;
+    let rules = scene.classes();
+    let share = |alpha: f64, c0: f64| alpha * c0 * h / (8.0 * nu);
+    let accurate = trials
+        .iter()
+        .filter_map(|t| t.pooled.as_ref().map(|p| (t.c0, p)))
+        .filter(|(_, p)| p.class != Class::Failed && p.linf_stat <= rules.linf_bound)
+        .map(|(c, _)| c)
+        .fold(None, |m: Option<f64>, c| Some(m.map_or(c, |m| m.max(c))));
+    let Some((c_comp, _)) = bracket.not_compressed else {
+        let top = bracket.compressed.map(|c| c.0).unwrap_or(f64::NAN);
+        let mut would = Vec::new();
+        if let Some(l) = law {
+            would.push(format!(
+                "the disordered law (k = {}, m = {}) puts the end of over-compression at about {} \
+                 U: search higher (--hi-over-u)",
+                fmt_num(l.k),
+                fmt_num(l.m),
+                fmt_num(l.c0_over_u(rules.eps_margin))
+            ));
+        }
+        would.push(format!(
+            "a density tolerance above the compaction seen at {} U (eps_margin larger), if that \
+             is acceptable",
+            fmt_num(top / u)
+        ));
+        return Ok(Diagnosis {
+            binds: format!(
+                "compaction: every c0 up to {} U over-compresses or fails in the disordered state",
+                fmt_num(top / u)
+            ),
+            c0_compaction_over_u: None,
+            c0_accuracy_over_u: accurate.map(|c| c / u),
+            av_share: None,
+            would,
+            checked_alpha: None,
+        });
+    };
+    let at = trials.iter().find(|t| t.c0 == c_comp);
+    let linf = at
+        .and_then(|t| t.pooled.as_ref())
+        .map_or(f64::NAN, |p| p.linf_stat);
+    let s = share(scene.alpha, c_comp);
+    let mut would = Vec::new();
+    let mut checked_alpha = None;
+    let ratio = accurate.map(|a| a / c_comp);
+    if scene.alpha > 0.0 {
+        let alpha2 = ratio.map_or(0.0, |r| scene.alpha * r.min(1.0));
+        let mut s2 = scene.clone();
+        s2.alpha = alpha2;
+        let t = trial(&s2, c_comp)?;
+        let p = t.pooled.expect("a trial of the seeds");
+        checked_alpha = Some((alpha2, p.class));
+        would.push(format!(
+            "alpha at most {} (the share alpha c0 h / (8 nu) at {} U then equals the share where \
+             the runs were accurate{}); checked: at alpha = {} and c0 = {} U the run is {} \
+             (mean-flow error {} U)",
+            fmt_num(alpha2),
+            fmt_num(c_comp / u),
+            accurate.map_or(" (none was: alpha = 0)".to_string(), |_| String::new()),
+            fmt_num(alpha2),
+            fmt_num(c_comp / u),
+            p.class,
+            fmt_num(p.linf_stat)
+        ));
+    }
+    if let Some(r) = ratio.filter(|r| *r < 1.0) {
+        would.push(format!(
+            "N at least {} at the same Re (the share falls as h / B = 1 / N), an estimate",
+            (f64::from(scene.n_layers) / r).ceil()
+        ));
+        if let (Some(l), Some(a)) = (law, accurate) {
+            would.push(format!(
+                "a density tolerance of {} (eps_margin; the disordered law's compaction at the \
+                 accurate {} U), an estimate",
+                fmt_num(l.eps_at(a / u)),
+                fmt_num(a / u)
+            ));
+        }
+    }
+    Ok(Diagnosis {
+        binds: format!(
+            "accuracy: the compaction needs c0 >= {} U, where the mean flow is off by {} U (the \
+             bound is {}); the artificial viscosity adds alpha c0 h / (8 nu) = {} of nu there{}",
+            fmt_num(c_comp / u),
+            fmt_num(linf),
+            fmt_num(rules.linf_bound),
+            fmt_num(s),
+            accurate.map_or("; no c0 tried was accurate".to_string(), |a| format!(
+                ", the runs were accurate up to {} U",
+                fmt_num(a / u)
+            ))
+        ),
+        c0_compaction_over_u: Some(c_comp / u),
+        c0_accuracy_over_u: accurate.map(|c| c / u),
+        av_share: Some(s),
+        would,
+        checked_alpha,
+    })
+}

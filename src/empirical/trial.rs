@@ -1,0 +1,305 @@
+//! One c0 run from every start of the search: the perfect lattice and the
+//! jittered seeds, each to the stationary horizon; the seeds pooled into
+//! one class (docs/stationary.md). Runs are cached by (c0, start), so a c0
+//! that two questions ask (a probe and a rule) is run once.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::{bail, Result};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::Search;
+use crate::config::{C0Spec, ClassRules, Scene};
+use crate::problem::horizon::HorizonKind;
+use crate::run::run_scene;
+use crate::solver::{classify, Class, Observer, Outcome, Regime, RunResult};
+
+/// One start's run at one c0: its class and the window's statistics.
+#[derive(Debug, Clone, Serialize)]
+pub struct StartRun {
+    /// Jitter amplitude in d (0: the perfect lattice) and seed.
+    pub jitter: f64,
+    pub seed: u32,
+    pub class: Class,
+    /// Why it failed (None: it did not).
+    pub failure: Option<String>,
+    pub eps_stat: f64,
+    pub eps_max_mean: f64,
+    pub linf_stat: f64,
+    pub rms_v_stat: f64,
+    pub dy_rms: f64,
+    pub regime: Regime,
+    pub stationary: bool,
+    /// The time the run reached: the checkpoint it stopped at, the cap, or
+    /// its failure.
+    pub t: f64,
+    /// The first output time it had left its lattice (dy_rms >= 0.1 d).
+    pub t_disorder: Option<f64>,
+    pub steps: u64,
+    pub wall_s: f64,
+    /// (t, eps_p99, max_eps, dy_rms) at every frame: the run's history.
+    #[serde(skip)]
+    pub series: Vec<[f64; 4]>,
+}
+
+impl StartRun {
+    fn of(r: &RunResult, rules: &ClassRules) -> StartRun {
+        let w = &r.window;
+        StartRun {
+            jitter: r.problem.jitter,
+            seed: r.problem.scene.jitter_seed,
+            class: r.class(rules),
+            failure: match &r.outcome {
+                Outcome::Failed { failure, t, .. } => Some(format!("{failure} at t = {t:.4}")),
+                _ => None,
+            },
+            eps_stat: w.eps_stat,
+            eps_max_mean: w.eps_max_mean,
+            linf_stat: w.linf_stat,
+            rms_v_stat: w.rms_v_stat / r.problem.flow.u,
+            dy_rms: w.dy_rms,
+            regime: w.regime,
+            stationary: w.stationary,
+            t: r.t,
+            t_disorder: r.t_disorder,
+            steps: r.steps,
+            wall_s: r.wall_s,
+            series: r
+                .samples
+                .iter()
+                .map(|s| [s.t, s.eps_p99, s.max_eps, s.dy_rms])
+                .collect(),
+        }
+    }
+}
+
+/// The seeds of one c0 as one: failed if any failed; else the means of
+/// their window statistics, classified as a run is.
+#[derive(Debug, Clone, Serialize)]
+pub struct Pooled {
+    pub class: Class,
+    /// The first failed seed's reason.
+    pub failure: Option<String>,
+    /// Means over the seeds, and the spread of eps_stat.
+    pub eps_stat: f64,
+    pub linf_stat: f64,
+    pub eps_stat_min: f64,
+    pub eps_stat_max: f64,
+    pub seeds: usize,
+    /// Seeds whose window was stationary, and those disordered.
+    pub stationary: usize,
+    pub disordered: usize,
+    /// Mean time to disorder over the seeds that disordered.
+    pub t_disorder: Option<f64>,
+}
+
+impl Pooled {
+    /// Every seed stationary and disordered: a point of the disordered law.
+    pub fn settled(&self) -> bool {
+        self.class != Class::Failed
+            && self.stationary == self.seeds
+            && self.disordered == self.seeds
+    }
+}
+
+/// Pool `runs` (the seeds of one c0) under `rules` and the bound `eps_bound`.
+pub fn pool(runs: &[StartRun], rules: &ClassRules, eps_bound: f64) -> Pooled {
+    let n = runs.len() as f64;
+    let mean = |f: &dyn Fn(&StartRun) -> f64| runs.iter().map(f).sum::<f64>() / n;
+    let eps_stat = mean(&|r| r.eps_stat);
+    let linf_stat = mean(&|r| r.linf_stat);
+    let failed = runs.iter().find(|r| r.class == Class::Failed);
+    let disordered: Vec<f64> = runs.iter().filter_map(|r| r.t_disorder).collect();
+    Pooled {
+        class: match failed {
+            Some(_) => Class::Failed,
+            None => classify(linf_stat, eps_stat, rules.linf_bound, eps_bound),
+        },
+        failure: failed.and_then(|r| r.failure.clone()),
+        eps_stat,
+        linf_stat,
+        eps_stat_min: runs
+            .iter()
+            .map(|r| r.eps_stat)
+            .fold(f64::INFINITY, f64::min),
+        eps_stat_max: runs
+            .iter()
+            .map(|r| r.eps_stat)
+            .fold(f64::NEG_INFINITY, f64::max),
+        seeds: runs.len(),
+        stationary: runs.iter().filter(|r| r.stationary).count(),
+        disordered: runs
+            .iter()
+            .filter(|r| r.regime == Regime::Disordered)
+            .count(),
+        t_disorder: (!disordered.is_empty())
+            .then(|| disordered.iter().sum::<f64>() / disordered.len() as f64),
+    }
+}
+
+/// One c0 on the perfect lattice, or on every seed, or both.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trial {
+    pub c0: f64,
+    pub c0_over_u: f64,
+    /// The perfect lattice: the ordered regime while it lasts (None: not
+    /// run at this c0).
+    pub perfect: Option<StartRun>,
+    /// The seeds pooled: the answer's class (None: not run at this c0).
+    pub pooled: Option<Pooled>,
+    pub seeds: Vec<StartRun>,
+}
+
+impl Trial {
+    fn runs(&self) -> impl Iterator<Item = &StartRun> {
+        self.perfect.iter().chain(&self.seeds)
+    }
+    /// Steps of every run, and their wall-clock seconds summed (they overlap).
+    pub fn steps(&self) -> u64 {
+        self.runs().map(|r| r.steps).sum()
+    }
+    pub fn wall_s(&self) -> f64 {
+        self.runs().map(|r| r.wall_s).sum()
+    }
+}
+
+/// Which starts a trial runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Starts {
+    /// The perfect lattice alone.
+    Perfect,
+    /// The jittered seeds alone.
+    Seeds,
+    Both,
+}
+
+/// The starts of a trial: the perfect lattice (seed 0) and seeds 1..=n.
+pub fn starts(search: &Search, which: Starts) -> Vec<(f64, u32)> {
+    let perfect = (which != Starts::Seeds).then_some((0.0, 0));
+    let seeds = (which != Starts::Perfect)
+        .then(|| (1..=search.seeds).map(|s| (search.amplitude, s)))
+        .into_iter()
+        .flatten();
+    perfect.into_iter().chain(seeds).collect()
+}
+
+/// The scene a start runs: c0 set, the stationary horizon, the jitter.
+pub fn start_scene(scene: &Scene, c0: f64, (jitter, seed): (f64, u32)) -> Scene {
+    let mut s = scene.clone();
+    s.c0 = C0Spec::Value(c0);
+    s.horizon = HorizonKind::Stationary;
+    s.t_end = None;
+    s.jitter = jitter;
+    s.jitter_seed = seed;
+    s
+}
+
+/// Ends a run when the stop flag is set.
+struct Stop<'a>(&'a AtomicBool);
+impl Observer for Stop<'_> {
+    fn should_stop(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Every run the search has made, by (c0, start).
+#[derive(Default)]
+pub struct Runs {
+    done: HashMap<(u64, u32), StartRun>,
+}
+
+impl Runs {
+    /// Runs `which` would make at `c0s` that are not made yet.
+    pub fn missing(&self, search: &Search, c0s: &[f64], which: Starts) -> Vec<(f64, (f64, u32))> {
+        let mut todo = Vec::new();
+        for &c0 in c0s {
+            for start in starts(search, which) {
+                let key = (c0.to_bits(), start.1);
+                if !self.done.contains_key(&key) && !todo.contains(&(c0, start)) {
+                    todo.push((c0, start));
+                }
+            }
+        }
+        todo
+    }
+
+    /// Trials at every c0 of `c0s` with the starts `which` (runs not yet
+    /// made run first, all at once, each on one thread); a trial also
+    /// carries the other starts where they were made before. `ticked` is
+    /// called after each run.
+    pub fn trials(
+        &mut self,
+        scene: &Scene,
+        search: &Search,
+        c0s: &[f64],
+        which: Starts,
+        stop: &AtomicBool,
+        ticked: &(dyn Fn() + Sync),
+    ) -> Result<Vec<Trial>> {
+        let todo = self.missing(search, c0s, which);
+        self.run_list(scene, &todo, stop, ticked)?;
+        self.collect(scene, search, c0s)
+    }
+
+    /// Make the runs `todo` (c0, start), all at once, each on one thread.
+    pub fn run_list(
+        &mut self,
+        scene: &Scene,
+        todo: &[(f64, (f64, u32))],
+        stop: &AtomicBool,
+        ticked: &(dyn Fn() + Sync),
+    ) -> Result<()> {
+        let rules = scene.classes();
+        let made: Vec<Result<StartRun>> = todo
+            .par_iter()
+            .map(|&(c0, start)| {
+                let s = start_scene(scene, c0, start);
+                // One thread per run: the runs of a phase share the cores.
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+                let r = pool.install(|| run_scene(&s, &mut Stop(stop)))?;
+                ticked();
+                if matches!(r.outcome, Outcome::Interrupted { .. }) {
+                    bail!("interrupted");
+                }
+                Ok(StartRun::of(&r, &rules))
+            })
+            .collect();
+        for (&(c0, start), run) in todo.iter().zip(made) {
+            self.done.insert((c0.to_bits(), start.1), run?);
+        }
+        Ok(())
+    }
+
+    /// The trials at `c0s` from the runs made so far (none run now).
+    pub fn collect(&self, scene: &Scene, search: &Search, c0s: &[f64]) -> Result<Vec<Trial>> {
+        let info = scene.kernel_info()?;
+        let rules = scene.classes();
+        let u = scene.u;
+        let bound = rules.eps_bound(scene.discretisation(info)?);
+        Ok(c0s
+            .iter()
+            .map(|&c0| {
+                let get = |seed: u32| self.done.get(&(c0.to_bits(), seed)).cloned();
+                let seeds: Option<Vec<StartRun>> = (1..=search.seeds).map(get).collect();
+                Trial {
+                    c0,
+                    c0_over_u: c0 / u,
+                    perfect: get(0),
+                    pooled: seeds.as_ref().map(|s| pool(s, &rules, bound)),
+                    seeds: seeds.unwrap_or_default(),
+                }
+            })
+            .collect())
+    }
+
+    /// Runs made so far.
+    pub fn len(&self) -> usize {
+        self.done.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.done.is_empty()
+    }
+}
