@@ -4,6 +4,7 @@
 //! ([`ticks`]).
 
 pub mod figure4;
+pub mod history;
 pub mod law;
 pub mod rules;
 pub mod run;

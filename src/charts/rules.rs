@@ -175,18 +175,21 @@ pub fn rules_svg(title: &str, panels: &[RulesPanel], perturbed: &str) -> Result<
         );
         entries.push((Mark::Square(NOT_RUN), "not run".into()));
         entries.push((Mark::Heading, String::new()));
-        entries.push((Mark::Dot(RGBColor(60, 60, 60)), "perfect lattice".into()));
+        entries.push((
+            Mark::Dot(RGBColor(60, 60, 60)),
+            "ordered: perfect lattice".into(),
+        ));
         entries.push((
             Mark::Triangle(RGBColor(60, 60, 60)),
-            format!("perturbed ({perturbed}), worst"),
+            format!("disordered: {perturbed}"),
         ));
         entries.push((Mark::Heading, String::new()));
         entries.push((Mark::Heading, "ok band (empirical)".into()));
+        entries.push((Mark::Square(RGBColor(222, 240, 225)), "ordered".into()));
         entries.push((
-            Mark::Square(RGBColor(222, 240, 225)),
-            "perfect lattice".into(),
+            Mark::Square(RGBColor(175, 218, 183)),
+            "disordered (the answer)".into(),
         ));
-        entries.push((Mark::Square(RGBColor(175, 218, 183)), "perturbed".into()));
         draw_legend(&legend, &entries)?;
         root.present().map_err(chart_err)?;
     }

@@ -62,6 +62,10 @@ pub struct C0Args {
     pub lo_over_u: f64,
     #[arg(long, default_value_t = Search::default().hi_over_u)]
     pub hi_over_u: f64,
+    /// With --empirical: the answer alone (the disordered search and the
+    /// ordered one), not every rule's c0 run beside it.
+    #[arg(long)]
+    pub no_rules: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -209,7 +213,7 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
     let stop = stop_on_ctrl_c_saying("stopping the search")?;
     let bar = runs_bar(args.quiet);
     let extras = Extras {
-        rules: true,
+        rules: !args.no_rules,
         ordered: true,
         law_ladder: args.tolerance.is_some(),
     };

@@ -41,6 +41,10 @@ pub struct SceneArgs {
     /// Centre-line speed U.
     #[arg(long)]
     pub u: Option<f64>,
+    /// Columns of the periodic strip (default: the fewest wider than the
+    /// support's diameter).
+    #[arg(long)]
+    pub columns: Option<u32>,
     /// Particle spacing d.
     #[arg(long)]
     pub d: Option<f64>,
@@ -154,6 +158,7 @@ impl SceneArgs {
         put("p", self.p.map(Value::Float));
         put("u", self.u.map(Value::Float));
         put("d", self.d.map(Value::Float));
+        put("columns", self.columns.map(|c| Value::Integer(c.into())));
         put("lattice", self.lattice.clone().map(Value::String));
         put("h_over_d", self.h_over_d.map(Value::Float));
         put("rho0", self.rho0.map(Value::Float));

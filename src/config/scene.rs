@@ -80,6 +80,11 @@ pub struct Scene {
     /// discretisation of the kernel (`kernels/discretisations.toml`).
     #[serde(default = "one", deserialize_with = "de_h_over_d")]
     pub h_over_d: f64,
+    /// Columns of the periodic strip: by default the fewest whole columns
+    /// wider than the support's diameter 2 R h (the least the scene needs);
+    /// more to see whether a statistic depends on the strip's width.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub columns: Option<u32>,
     /// Particle spacing d.
     #[serde(default = "one")]
     pub d: f64,

@@ -296,11 +296,12 @@ pub fn answer(
     };
     let c0_min_ok = disordered.c0_min_ok;
     let recommended = c0_min_ok.map(|c| c * search.margin);
-    // The recommended c0 on every start (how long the order lasts there),
-    // and the law's ladder about the answer on the seeds.
+    // The recommended c0 (or, with none, where compression ends) on every
+    // start (how long the order lasts there), and the law's ladder about
+    // the answer on the seeds.
     let mut both = Vec::new();
     let mut ladder = Vec::new();
-    if let Some(c) = recommended {
+    if let Some(c) = recommended.or(disordered.not_compressed.map(|h| h.0)) {
         both.push(c);
     }
     if extras.law_ladder {

@@ -37,6 +37,8 @@ pub struct StartRun {
     pub t: f64,
     /// The first output time it had left its lattice (dy_rms >= 0.1 d).
     pub t_disorder: Option<f64>,
+    /// The window it was judged on.
+    pub window: (f64, f64),
     pub steps: u64,
     pub wall_s: f64,
     /// (t, eps_p99, max_eps, dy_rms) at every frame: the run's history.
@@ -64,6 +66,7 @@ impl StartRun {
             stationary: w.stationary,
             t: r.t,
             t_disorder: r.t_disorder,
+            window: (w.from, w.to),
             steps: r.steps,
             wall_s: r.wall_s,
             series: r

@@ -21,6 +21,18 @@ pub struct Channel {
     pub re: f64,
 }
 
+/// The strip of a jittered start judged in its stationary state, unless the
+/// scene sets `columns`: at least as wide as the channel, 2B, since a
+/// narrower periodic strip falls back into order at high c0 where a wide
+/// one stays disordered (docs/stationary.md: Monaghan, N = 10, Re = 1,
+/// 30 U: eps_stat 0.003 on 5 columns, 0.010 on 10, 0.011 on 20; at 20 U 20
+/// and 40 columns agree).
+fn disordered_columns(scene: &Scene, lattice: &Lattice) -> Option<u32> {
+    let wide = scene.jitter > 0.0 && scene.horizon == crate::config::HorizonKind::Stationary;
+    let channel = (2.0 * lattice.b() / lattice.d * (1.0 - 1e-12)).ceil();
+    (wide && channel > f64::from(lattice.columns) && channel <= 1e5).then_some(channel as u32)
+}
+
 impl Channel {
     /// Check the fields the channel reads and build it. The skin is checked
     /// here because its range is the kernel's support.
@@ -42,7 +54,37 @@ impl Channel {
         positive("d", d)?;
         positive("h_over_d", scene.h_over_d)?;
         super::cost::check_size(scene.lattice, scene.n_layers, d, h, support, scene.skin)?;
-        let lattice = Lattice::new(scene.lattice, scene.n_layers, d, h, support);
+        let mut lattice = Lattice::new(scene.lattice, scene.n_layers, d, h, support);
+        if let Some(c) = scene
+            .columns
+            .or_else(|| disordered_columns(scene, &lattice))
+        {
+            // A bound that says why: the particle count grows with it and
+            // the memory check below (check_size) sees only the narrowest.
+            const MAX_COLUMNS: u32 = 100_000;
+            if !(lattice.columns..=MAX_COLUMNS).contains(&c) {
+                return Err(invalid(
+                    "columns",
+                    format!(
+                        "{c} must be from {} (the fewest whole columns wider than the support's \
+                         diameter 2 R h for kernel {}) to {MAX_COLUMNS}",
+                        lattice.columns, info.name
+                    ),
+                ));
+            }
+            lattice.columns = c;
+            lattice.width = f64::from(c) * d;
+            if lattice.n_particles() as f64 > super::cost::MAX_PARTICLES {
+                return Err(invalid(
+                    "columns",
+                    format!(
+                        "{c} columns give {} particles, above {}: use fewer",
+                        lattice.n_particles(),
+                        fmt_value(super::cost::MAX_PARTICLES)
+                    ),
+                ));
+            }
+        }
         // The centre line's support must not reach the wall (closed support).
         let n_min = (support * h * (1.0 + CLOSED_TOL) / lattice.dy).floor() as u32 + 1;
         if scene.n_layers < n_min {

@@ -141,20 +141,60 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
         r.sufficient() && e_perturbed.is_some_and(|e| r.c0().is_some_and(|c| c <= e * tol))
     });
     let mut s = Vec::new();
-    s.push(match (e_perfect, e_perturbed) {
-        (Some(a), Some(b)) => format!(
-            "The smallest c0 that ran ok is {} U on the perfect lattice and {} U on every perturbed seed ({}).",
-            fmt_num(a),
+    s.push(match e_perturbed {
+        Some(b) => format!(
+            "The answer (a real run: long, never a perfect lattice): the smallest c0 ok in the stationary, disordered state is {} U ({}).",
             fmt_num(b),
             d.config.perturbed_label()
         ),
-        (Some(a), None) => format!(
-            "The smallest c0 that ran ok is {} U on the perfect lattice; no c0 tried ran ok on every perturbed seed ({}).",
-            fmt_num(a),
+        None => format!(
+            "No c0 tried is ok in the stationary, disordered state ({}).",
             d.config.perturbed_label()
         ),
-        (None, _) => "No c0 tried ran ok on the perfect lattice.".to_string(),
     });
+    s.push(match e_perfect {
+        Some(a) => format!(
+            "In the ordered regime (the perfect lattice, the paper's analysis, while its order lasts) runs were ok from {} U.",
+            fmt_num(a)
+        ),
+        None => "No c0 tried was ok on the perfect lattice either.".to_string(),
+    });
+    if let Some(a) = perturbed.map(|e| &e.answer) {
+        if let Some(t) = &a.time_to_disorder {
+            s.push(format!(
+                "The order lasts: at {} U a {} d jitter left its lattice (dy_rms >= 0.1 d) at t = {}, the perfect lattice {} (B / U = {}).",
+                fmt_num(t.c0 / a.u),
+                t.amplitude,
+                t.seeds.map_or("never within the runs".to_string(), fmt_num),
+                t.perfect.map_or(format!("stayed ordered to t = {}", fmt_num(t.perfect_t)), |p| format!("from round-off at t = {}", fmt_num(p))),
+                fmt_num(a.horizon.shear_time)
+            ));
+        }
+        if let Some(l) = &a.law {
+            s.push(format!(
+                "Disordered law: eps_stat - eps0 = {} (U / c0)^{} (m +- {}), so a density tolerance delta needs c0 = U ({} / delta)^(1/{}).",
+                fmt_num(l.k),
+                fmt_num(l.m),
+                fmt_num(l.m_se),
+                fmt_num(l.k),
+                fmt_num(l.m)
+            ));
+        }
+        if let Some(dg) = &a.diagnosis {
+            s.push(format!("Why no c0 works: {}.", dg.binds));
+            for w in &dg.would {
+                s.push(format!("What would allow one: {w}."));
+            }
+        }
+        s.push(format!(
+            "Horizon: each run went past the start-up ({}) to its stationary window, t = {} to {} ({} of {} runs stationary; docs/stationary.md).",
+            fmt_num(a.horizon.t_startup),
+            fmt_num(a.horizon.t_min),
+            fmt_num(a.horizon.t_max),
+            a.horizon.stationary,
+            a.horizon.runs
+        ));
+    }
     let list = |v: &[String]| {
         if v.is_empty() {
             "none".to_string()
@@ -163,12 +203,12 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
         }
     };
     s.push(format!(
-        "Sufficient (ok on the perfect lattice and on every perturbed seed): {}.",
+        "Sufficient (ok in both regimes: on the perfect lattice and in the pooled disordered state): {}.",
         list(&sufficient)
     ));
     if !perfect_only.is_empty() {
         s.push(format!(
-            "Ok on the perfect lattice only, not under perturbation: {}.",
+            "Ok in the ordered regime only, not in the disordered state: {}.",
             list(&perfect_only)
         ));
     }
@@ -178,7 +218,7 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
     ));
     if let Some(e) = e_perturbed {
         s.push(format!(
-            "About necessary (sufficient, and within the bisection's tolerance of the perturbed empirical c0 {} U): {}.",
+            "About necessary (sufficient, and within the bisection's tolerance of the disordered empirical c0 {} U): {}.",
             fmt_num(e),
             list(&necessary)
         ));
@@ -229,7 +269,7 @@ fn cost_sentence(rules: &[&RuleAt], perturbed: Option<&Empirical>) -> Option<Str
         .collect();
     (!costs.is_empty()).then(|| {
         format!(
-            "Cost of the sufficient rules on a perturbed start, against the {} steps at the empirical c0 ({} U): {}.",
+            "Cost of the sufficient rules on a perturbed start to their horizons, against the {} steps at the empirical c0 ({} U): {}.",
             at.steps,
             fmt_num(at.c0_over_u),
             costs.join("; ")

@@ -46,6 +46,7 @@ pub(super) fn write(d: &ReportData, out: &Path) -> Result<()> {
     };
     runs(d, &f)?;
     answer(d, &mut f)?;
+    histories(d, &mut f)?;
     figure4(d, &mut f)?;
     speed(d, &mut f)?;
     maps(d, &mut f)?;
@@ -167,6 +168,50 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
     Ok(())
 }
 
+/// Per kernel, on the paper's discretisation at the first verdict Re, the
+/// history of the perfect lattice and of the first jittered seed at the
+/// search's first probe (10 U): the two regimes in time.
+fn histories(d: &ReportData, f: &mut Folder) -> Result<()> {
+    for e in d
+        .empirical
+        .iter()
+        .filter(|e| e.case == Case::ALL[1] && e.re_index == 0)
+    {
+        let a = &e.answer;
+        let first = a.search.first_over_u * a.u;
+        let Some(t) = a.trials.iter().find(|t| t.c0 == first) else {
+            continue;
+        };
+        let mut runs = Vec::new();
+        if let Some(p) = &t.perfect {
+            runs.push(charts::history::History {
+                label: "perfect lattice".into(),
+                frames: &p.series,
+                window: p.window,
+            });
+        }
+        if let Some(s) = t.seeds.first() {
+            runs.push(charts::history::History {
+                label: format!("jittered by {} d, seed {}", s.jitter, s.seed),
+                frames: &s.series,
+                window: s.window,
+            });
+        }
+        let title = format!(
+            "{}: c0 = {} U, N = {}, Re = {}, alpha = {} ({}); shaded: each run's window",
+            e.kernel,
+            crate::format::fmt_num(t.c0_over_u),
+            e.n,
+            crate::format::fmt_num(e.re),
+            e.alpha,
+            e.discretisation
+        );
+        let svg = charts::history::history_svg(&title, &runs)?;
+        f.figure("history", &format!("history_{}.svg", e.kernel), svg, &[])?;
+    }
+    Ok(())
+}
+
 /// The first screen: per kernel, c0 by every rule against the empirical
 /// bands, perfect and perturbed.
 fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
@@ -192,7 +237,7 @@ fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
             super::papers(info).map_or(String::new(), |p| p.label())
         );
         let p = &d.config.perturbed;
-        let legend = format!("jitter {} d, {} seeds", p.jitter, p.seeds);
+        let legend = format!("jitter {} d, {} seeds pooled", p.jitter, p.seeds);
         let svg = charts::rules_svg(&title, &panels, &legend)?;
         f.figure("answer", &format!("answer_{k}.svg"), svg, &[&csv])?;
     }

@@ -15,7 +15,7 @@ pub(super) fn answer(h: &mut String, d: &ReportData, figures: &[Figure]) {
     h.push_str("<h2 id=\"answer\">The answer: c0 by every rule against the solver</h2>\n");
     let _ = writeln!(
         h,
-        "<p>Per kernel, on the paper's discretisation at N = {}, alpha = {}: each rule's c0 (rows) at each verdict Re (panels), a dot coloured by the class of its run on the perfect lattice and a triangle by the worst class over the perturbed starts ({}); shaded, the empirical ok band (the smallest c0 that ran ok, bisected, up to the largest ok c0 of the map) on the perfect lattice (light) and on every perturbed seed (dark). Every mark is one of this report's runs.</p>",
+        "<p>Per kernel, on the paper's discretisation at N = {}, alpha = {}, both regimes: each rule's c0 (rows) at each verdict Re (panels), a dot coloured by the class of its run on the perfect lattice (the ordered regime the paper analyses, while it lasts) and a triangle by the class of the perturbed starts in their stationary, disordered state ({}); shaded, the empirical ok band (the smallest ok c0, bisected, up to the largest ok trial of the block above it) of the ordered regime (light) and of the disordered one (dark). Every run goes past the start-up until its statistics are stationary and is judged on that window (docs/stationary.md). Every mark is one of this report's runs.</p>",
         c.maps.n,
         c.maps.alpha,
         esc(&c.perturbed_label())
@@ -40,6 +40,10 @@ pub(super) fn answer(h: &mut String, d: &ReportData, figures: &[Figure]) {
             }
             h.push_str("</ul>\n");
         }
+    }
+    if figures.iter().any(|f| f.id == "history") {
+        h.push_str("<h3 id=\"history\">The two regimes in time</h3>\n<p>Per kernel, at the search's first probe (10 U) and the first verdict Re: the perfect lattice and a jittered start, each run to its stationary horizon. Above, the compaction (the 99th percentile of eps over the fluid, per frame); below, dy_rms, how far the particles have left their lattice rows (the grey line, 0.1 d, is where a run counts as disordered). A jitter first relaxes or grows; once it has grown the flow is disordered and settles into a stationary state, which the shaded window judges. The perfect lattice's own perturbation is round-off: it stays ordered far longer.</p>\n");
+        h.push_str(&super::figures_html(figures, "history"));
     }
 }
 
