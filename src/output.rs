@@ -326,8 +326,9 @@ pub fn profile_csv(s: &Sample) -> String {
 }
 
 pub fn timeseries_csv(samples: &[Sample]) -> String {
-    let mut out =
-        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n");
+    let mut out = String::from(
+        "t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n",
+    );
     for s in samples {
         let _ = writeln!(
             out,

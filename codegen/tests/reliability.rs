@@ -94,3 +94,96 @@ fn generate_never_opens_or_follows_a_temporary_name_it_did_not_create() {
         .collect();
     assert_eq!(top_names.len(), 2, "{top_names:?}");
 }
+
+// ---- 3c: exact lengths with a bounded denominator ---------------------------
+
+/// Every exact length of the lattice geometry (h/d, the support, each
+/// piece's end in `w` and `dw`) refuses a denominator above the bound before
+/// any work, naming the file, line, field and fix; one at the bound is
+/// accepted.
+#[test]
+fn every_exact_length_bounds_its_denominator() {
+    use shearsph_codegen::discretisation;
+    use shearsph_codegen::kernel::{parse_kernel, MAX_DENOMINATOR};
+    assert_eq!(MAX_DENOMINATOR, 1000);
+    let file = Path::new("kernels/discretisations.toml");
+    for (h, ok) in [
+        ("\"1000000000001/1000000000000\"", false),
+        ("\"1.0001\"", false),
+        ("\"1001/1001\"", true),
+        ("\"1697/1000\"", true),
+        ("\"997/991\"", true),
+    ] {
+        let src = format!("[[discretisation]]\nlattice = \"square\"\nh_over_d = {h}\n");
+        match discretisation::parse(file, &src) {
+            Ok(_) => assert!(ok, "{h} accepted"),
+            Err(e) => {
+                assert!(!ok, "{h}: {e}");
+                assert_eq!(e.field, "discretisation[0].h_over_d");
+                assert_eq!(e.at, Some((3, 12)), "{e}");
+                assert!(e.message.contains("above 1000"), "{e}");
+                assert!(e.fix.contains("at most 1000"), "{e}");
+                assert!(e
+                    .to_string()
+                    .starts_with("kernels/discretisations.toml:3:12"));
+            }
+        }
+    }
+    // a kernel's support and piece ends: the same bound, each named
+    let big = "\"1000000000001/1000000000000\"";
+    let kernel = |support: &str, w_to: &str, dw_to: &str| {
+        format!(
+            "name = \"k\"\nreference = \"t\"\nsupport = {support}\n[[w]]\nto = {w_to}\nexpr = \"1 - q\"\n\
+             [[dw]]\nto = {dw_to}\nexpr = \"-1\"\n"
+        )
+    };
+    for (src, field, line) in [
+        (kernel(big, "1", "1"), "support", 3),
+        (kernel("1", big, "1"), "w[0].to", 5),
+        (kernel("1", "1", "\"1/1001\""), "dw[0].to", 8),
+    ] {
+        let e = parse_kernel(Path::new("kernels/k.toml"), &src).expect_err(field);
+        assert_eq!(e.field, field, "{e}");
+        assert_eq!(e.at.map(|a| a.0), Some(line), "{e}");
+        assert!(e.message.contains("above 1000"), "{e}");
+        assert!(e.fix.contains("at most 1000"), "{e}");
+    }
+}
+
+/// The case of the issue ends at once with the error; a discretisation at
+/// the bound derives (the radicands it factors stay small).
+#[test]
+fn generate_refuses_a_huge_denominator_and_derives_one_at_the_bound() {
+    let kernels = Path::new(env!("CARGO_MANIFEST_DIR")).join("../kernels");
+    let composite = std::fs::read_to_string(kernels.join("composite.toml")).unwrap();
+    for (h, ok) in [("1000000000001/1000000000000", false), ("997/991", true)] {
+        let disc = format!("[[discretisation]]\nlattice = \"triangular\"\nh_over_d = \"{h}\"\n");
+        let k = kernels_dir(&[
+            ("composite.toml", &composite),
+            ("discretisations.toml", &disc),
+        ]);
+        let out = k.path().join("out");
+        let (success, _, err) = run(k.path(), &["generate", "--out", out.to_str().unwrap()]);
+        assert_eq!(success, ok, "{h}: {err}");
+        if !ok {
+            assert!(
+                err.contains("discretisations.toml:3:12: field `discretisation[0].h_over_d`"),
+                "{err}"
+            );
+            assert!(!out.exists(), "nothing written");
+        }
+    }
+}
+
+/// Products of square roots are exact at any size: a kernel whose constants
+/// multiply to a radicand above 2^64 is judged (here: not normalised), not
+/// a panic.
+#[test]
+fn a_radicand_above_u64_is_a_number_not_a_panic() {
+    use shearsph_codegen::kernel::parse_kernel;
+    let src = "name = \"k\"\nreference = \"t\"\nsupport = 1\n[[w]]\nto = 1\n\
+               expr = \"sqrt(1099511627689)*sqrt(1099511627609)*(1-q)^2\"\n";
+    let e = parse_kernel(Path::new("kernels/k.toml"), src).expect_err("not normalised");
+    assert!(e.message.contains("not normalised"), "{e}");
+    assert!(e.message.contains("sqrt(1208925819335353221265601)"), "{e}");
+}
