@@ -187,3 +187,98 @@ fn a_radicand_above_u64_is_a_number_not_a_panic() {
     assert!(e.message.contains("not normalised"), "{e}");
     assert!(e.message.contains("sqrt(1208925819335353221265601)"), "{e}");
 }
+
+// ---- 3b: show --n-layers is bounded, and says why ---------------------------
+
+/// Every N outside [ceil(R h/d) + 1, 100] is refused at once (exit 1) with
+/// the bound and its reason; N = 100 is the limit, not a hang; inside the
+/// range the claims are checked for that N.
+#[test]
+fn show_bounds_the_layer_count_and_says_why() {
+    let k = kernels_dir(&[("cubic.toml", CUBIC)]);
+    for n in ["1000000000", "101", "9223372036854775807"] {
+        let start = std::time::Instant::now();
+        let o = codegen()
+            .arg("--kernels")
+            .arg(k.path())
+            .args(["show", "cubic", "--n-layers", n])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{n}: {err}");
+        assert!(
+            err.contains(&format!("--n-layers {n}: at most 100")),
+            "{err}"
+        );
+        assert!(err.contains("grows as N^2"), "{err}");
+        // refused before any derivation (which takes seconds)
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{n}");
+    }
+    // the least N: R = 2 on the paper's lattice reaches 2 layers
+    for n in ["-1", "0", "2"] {
+        let o = codegen()
+            .arg("--kernels")
+            .arg(k.path())
+            .args(["show", "cubic", "--n-layers", n])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{n}: {err}");
+        assert!(
+            err.contains(&format!("--n-layers {n}: needs at least 3 layers"))
+                && err.contains("triangular, h/d = 1"),
+            "{err}"
+        );
+    }
+    // the widest discretisation sets it: R h/d = 2 x 17/10 reaches 4 layers
+    let disc = "[[discretisation]]\nlattice = \"square\"\nh_over_d = \"17/10\"\n";
+    let k2 = kernels_dir(&[("cubic.toml", CUBIC), ("discretisations.toml", disc)]);
+    let (ok, _, err) = run(k2.path(), &["show", "cubic", "--n-layers", "4"]);
+    assert!(
+        !ok && err.contains("needs at least 5 layers") && err.contains("17/10"),
+        "{err}"
+    );
+    let (ok, out, err) = run(
+        k.path(),
+        &["show", "cubic", "--n-layers", "3", "--digits", "6"],
+    );
+    assert!(ok, "{err}");
+    assert!(out.contains("checked (N = 3 layers)"), "{out}");
+}
+
+/// The mean's claim derives one mean per set of layers at rest relative to
+/// the particle, so its answer at every layer is the direct derivation's.
+#[test]
+fn the_mean_claim_at_every_layer_is_the_direct_mean() {
+    use shearsph_codegen::analysis::{analyse, Options};
+    use shearsph_codegen::compaction::{mean, Site};
+    use shearsph_codegen::kernel::parse_kernel;
+    use shearsph_codegen::lattice::Discretisation;
+    let def = parse_kernel(Path::new("cubic.toml"), CUBIC).unwrap();
+    let nl = 12;
+    let a = analyse(
+        &def,
+        &[],
+        Options {
+            digits: 20,
+            check_layers: nl,
+        },
+    );
+    let claim = &a.paper().claims[2];
+    assert!(claim.name.starts_with("mean of eps"), "{}", claim.name);
+    let disc = Discretisation::paper();
+    for n in 1..=(nl - 2) {
+        let m = mean(
+            &def.w,
+            &def.support,
+            &disc,
+            Site {
+                n,
+                n_layers: Some(nl),
+            },
+            128,
+        );
+        let want = format!("n={n}: {}", shearsph_codegen::exact::decimal(&m.value, 8));
+        assert!(claim.detail.contains(&want), "{want} in {}", claim.detail);
+    }
+}
