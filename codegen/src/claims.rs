@@ -13,7 +13,8 @@ use rug::{Float, Rational};
 /// that the amplitude of eps does not depend on n searches eps(t) at every
 /// layer n = 1 .. N - R, and layer n's curve has a top frequency of about
 /// 2 n R h/d (the speed of its farthest row), so the work grows as N^2: N =
-/// 100 takes about a minute per kernel. (The mean's claim costs the same at
+/// 100 takes one to two minutes for a shipped kernel (monaghan 63 s, morris
+/// 107 s on a loaded 2-core machine). (The mean's claim costs the same at
 /// any N: see `mean_claim`.)
 pub const MAX_CHECK_LAYERS: i64 = 100;
 

@@ -115,7 +115,7 @@ fn run(cli: Cli) -> Result<()> {
                 bail!(
                     "--n-layers {n_layers}: at most {}. The claims search eps(t) at every layer \
                      n = 1 .. N - R, and layer n's curve has a top frequency of about 2 n R h/d, \
-                     so the time grows as N^2 (N = 100: about a minute per kernel); choose N \
+                     so the time grows as N^2 (N = 100: one to two minutes for a shipped kernel); choose N \
                      from ceil(R h/d) + 1 up to {}",
                     claims::MAX_CHECK_LAYERS,
                     claims::MAX_CHECK_LAYERS
