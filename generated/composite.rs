@@ -3,7 +3,7 @@
 
 use crate::kernel::{
     eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
-    EpsLattice, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
+    EpsLattice, Kernel, KernelInfo, Lattice, NoC0, PrintedC0, PrintedEps,
 };
 /// Composite kernel (R = 1).
 ///
@@ -106,6 +106,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.04516411494555269,
                     exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
@@ -140,6 +145,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.04516411494555269,
                     exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
@@ -174,6 +184,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.04516411494555269,
                     exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
@@ -208,6 +223,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.04516411494555269,
                     exact: "1584/(665*pi) - 1782*sqrt(3)/(1729*pi) - 891*sqrt(3)/(665*pi^2)",
@@ -307,145 +327,25 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             symmetric: true,
             label: "t = 0.5 T (exact: the maximum the search found is attained there)",
         },
-        c0_models: &[
-            C0Model {
-                name: "field-av",
-                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-                a: Derived {
-                    value: 0.03543527052659434,
-                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.2904520465984915,
-                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.10139289539779703,
-                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -4.098346679482888,
-                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 16.796445505228416,
-                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -2.8613551947261464,
-                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
+        c0_models: &[],
+        no_c0: &[
+            NoC0 {
+                model: "field-av",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0381380 < 0 (at t = 0.5 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "field",
-                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-                a: Derived {
-                    value: 0.03543527052659434,
-                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.2904520465984915,
-                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.10139289539779703,
-                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -4.098346679482888,
-                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 16.796445505228416,
-                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -2.8613551947261464,
-                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "field",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0381380 < 0 (at t = 0.5 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "pair-av",
-                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-                a: Derived {
-                    value: 0.03543527052659434,
-                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.2904520465984915,
-                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.10139289539779703,
-                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -4.098346679482888,
-                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 16.796445505228416,
-                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -2.8613551947261464,
-                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair-av",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0381380 < 0 (at t = 0.5 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "pair",
-                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-                a: Derived {
-                    value: 0.03543527052659434,
-                    exact: "1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.2904520465984915,
-                    exact: "-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.10139289539779703,
-                    exact: "-28512000/(3798613*pi) + 1320000*sqrt(3)/(292201*pi)",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -4.098346679482888,
-                    exact: "(-713245500000*sqrt(3)/(34051047486703*pi) - 4162752000000*sqrt(3)/(2619311345131*pi^2)) / (3168000/(542659*pi) - 57059640000000*sqrt(3)/(442663617327139*pi) - 333020160000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 16.796445505228416,
-                    exact: "(1526157429810750000000000/(1159473834941702692961810209*pi^2) + 17814384789696000000000000/(89190294995515591766293093*pi^3) + 51985512640512000000000000/(6860791922731968597407161*pi^4)) / (6688037550633638716560384000000/(195951078105147755110545925321*pi^2) - 361529879040000000000*sqrt(3)/(240215395915127922601*pi^2) + 114012062654054400000000000000/(15073159854242135008503532717*pi^3) - 2110015733760000000000*sqrt(3)/(18478107378086763277*pi^3) + 332707280899276800000000000000/(1159473834941702692961810209*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -2.8613551947261464,
-                    exact: "(28512000/(3798613*pi) - 1320000*sqrt(3)/(292201*pi)) / (1584000/(542659*pi) - 28529820000000*sqrt(3)/(442663617327139*pi) - 166510080000000*sqrt(3)/(34051047486703*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0381380 < 0 (at t = 0.5 T), so there is no compaction for a sound speed to balance",
             },
         ],
-        no_c0: &[],
         eps_lattice: EpsLattice {
             lattice: Lattice::Triangular,
             layers: 1i32,
@@ -516,6 +416,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.1166461213915846,
                     exact: "-3168/(8645*pi)",
@@ -550,6 +455,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.1166461213915846,
                     exact: "-3168/(8645*pi)",
@@ -584,6 +494,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.1166461213915846,
                     exact: "-3168/(8645*pi)",
@@ -618,6 +533,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.1166461213915846,
                     exact: "-3168/(8645*pi)",
@@ -717,145 +637,25 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             symmetric: true,
             label: "t = 0 (exact: the maximum the search found is attained there)",
         },
-        c0_models: &[
-            C0Model {
-                name: "field-av",
-                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-                a: Derived {
-                    value: 0.044376061742944464,
-                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 0.0,
-                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: 0.0,
-                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
+        c0_models: &[],
+        no_c0: &[
+            NoC0 {
+                model: "field-av",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0477607 < 0 (at t = 0 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "field",
-                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-                a: Derived {
-                    value: 0.044376061742944464,
-                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 0.0,
-                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: 0.0,
-                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "field",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0477607 < 0 (at t = 0 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "pair-av",
-                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-                a: Derived {
-                    value: 0.044376061742944464,
-                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 0.0,
-                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: 0.0,
-                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair-av",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0477607 < 0 (at t = 0 T), so there is no compaction for a sound speed to balance",
             },
-            C0Model {
-                name: "pair",
-                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-                a: Derived {
-                    value: 0.044376061742944464,
-                    exact: "15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 0.0,
-                    exact: "(0) / (31562884973664000/(5754627025252807*pi) - 7239767040000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (996215707860744721973584896000000/(33115732199769970613682261379249*pi^2) - 457015868639287790469120000000000/(2547364015366920816437097029173*pi^3) + 52414226793470361600000000000000/(195951078105147755110545925321*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: 0.0,
-                    exact: "(0) / (15781442486832000/(5754627025252807*pi) - 3619883520000000/(442663617327139*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair",
+                fact: "no c0: the lattice never compacts: the maximum of eps over the period is -0.0477607 < 0 (at t = 0 T), so there is no compaction for a sound speed to balance",
             },
         ],
-        no_c0: &[],
         eps_lattice: EpsLattice {
             lattice: Lattice::Square,
             layers: 1i32,
@@ -926,6 +726,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.017401565819696763,
                     exact: "53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2)",
@@ -960,6 +765,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.017401565819696763,
                     exact: "53023830939024000/(53018623587908251*pi) + 53023830939024000*sqrt(5)/(59256108715897457*pi) - 13047217920000000/(4078355660608327*pi^2) - 686695680000000*sqrt(5)/(239903274153431*pi^2)",
@@ -994,6 +804,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.01251402752365134,
                     exact: "2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2)",
@@ -1028,6 +843,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.01251402752365134,
                     exact: "2173977068499984000/(1007353848170256769*pi) - 28154522880000000/(4078355660608327*pi^2)",

@@ -3,7 +3,7 @@
 
 use crate::kernel::{
     eps_at_disc, C0Configuration, C0Model, Derived, DiscretisationInfo, EpsInfo,
-    EpsLattice, Kernel, KernelInfo, Lattice, PrintedC0, PrintedEps,
+    EpsLattice, Kernel, KernelInfo, Lattice, NoC0, PrintedC0, PrintedEps,
 };
 /// Monaghan cubic spline (R = 2).
 ///
@@ -138,6 +138,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.002291400167775495,
                     exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
@@ -172,6 +177,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.002291400167775495,
                     exact: "-15/pi + 345*sqrt(7)/(49*pi) - 24975/(112*pi^2) + 232425*sqrt(3)/(392*pi^2) + 574425*sqrt(7)/(5488*pi^2) - 654075*sqrt(21)/(2744*pi^2)",
@@ -206,6 +216,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.001353309318153274,
                     exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
@@ -240,6 +255,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.001353309318153274,
                     exact: "15/(7*pi) + 24975/(784*pi^2) - 9825*sqrt(3)/(196*pi^2) + 4125*sqrt(21)/(392*pi^2)",
@@ -339,145 +359,25 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             symmetric: true,
             label: "t = 0 (exact: the maximum the search found is attained there)",
         },
-        c0_models: &[
-            C0Model {
-                name: "field-av",
-                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-                a: Derived {
-                    value: -0.006849565759363801,
-                    exact: "-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-57060000/(2599051*pi) + 43920000*sqrt(3)/(2599051*pi) - 7598228760000000/(6755066100601*pi^2) + 25424190000000*sqrt(3)/(39970805329*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (99370800000000/(74231495611*pi^2) - 5012150400000000*sqrt(3)/(6755066100601*pi^2) + 1999373116838400000000000/(17556761303833129651*pi^3) - 1157766461391600000000000*sqrt(3)/(17556761303833129651*pi^3) + 113117666433137253900000000000000/(45630918023488799452561201*pi^4) - 386357623315408800000000000000*sqrt(3)/(270005432091649700902729*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2))",
-                    is_exact: true,
-                },
+        c0_models: &[],
+        no_c0: &[
+            NoC0 {
+                model: "field-av",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); with b = 0 too (the artificial viscosity acts alike in both configurations) the balance is a c0^2 = 0: c0 = 0, at every Re and alpha",
             },
-            C0Model {
-                name: "field",
-                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-                a: Derived {
-                    value: -0.006849565759363801,
-                    exact: "-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.253726265201419,
-                    exact: "-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 18.521339462619125,
-                    exact: "(-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)) / (-57060000/(2599051*pi) + 43920000*sqrt(3)/(2599051*pi) - 7598228760000000/(6755066100601*pi^2) + 25424190000000*sqrt(3)/(39970805329*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 343.0400154895725,
-                    exact: "(7855393502301198187500000000/(270005432091649700902729*pi^4) - 26830390508014500000000000*sqrt(3)/(1597665278648814798241*pi^4)) / (99370800000000/(74231495611*pi^2) - 5012150400000000*sqrt(3)/(6755066100601*pi^2) + 1999373116838400000000000/(17556761303833129651*pi^3) - 1157766461391600000000000*sqrt(3)/(17556761303833129651*pi^3) + 113117666433137253900000000000000/(45630918023488799452561201*pi^4) - 386357623315408800000000000000*sqrt(3)/(270005432091649700902729*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-28530000/(2599051*pi) + 21960000*sqrt(3)/(2599051*pi) - 3799114380000000/(6755066100601*pi^2) + 12712095000000*sqrt(3)/(39970805329*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "field",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); its roots are then 0 and -2 S alpha U/N^2 with S = b/(2a) > 0: none is positive, at every Re and alpha",
             },
-            C0Model {
-                name: "pair-av",
-                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-                a: Derived {
-                    value: -0.0023778621509887685,
-                    exact: "3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -0.0,
-                    exact: "(0) / (6600000/(2599051*pi) + 345708000000000/(6755066100601*pi^2) - 230891100000000*sqrt(3)/(6755066100601*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (43560000000000/(6755066100601*pi^2) + 4563345600000000000000/(17556761303833129651*pi^3) - 3047762520000000000000*sqrt(3)/(17556761303833129651*pi^3) + 21495855495510000000000000000/(3510070617191446111735477*pi^4) - 159641800797600000000000000000*sqrt(3)/(45630918023488799452561201*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair-av",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); with b = 0 too (the artificial viscosity acts alike in both configurations) the balance is a c0^2 = 0: c0 = 0, at every Re and alpha",
             },
-            C0Model {
-                name: "pair",
-                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-                a: Derived {
-                    value: -0.0023778621509887685,
-                    exact: "3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.253726265201419,
-                    exact: "-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 53.35176076037754,
-                    exact: "(-63318573000000/(519620469277*pi^2) + 211868250000*sqrt(3)/(3074677333*pi^2)) / (6600000/(2599051*pi) + 345708000000000/(6755066100601*pi^2) - 230891100000000*sqrt(3)/(6755066100601*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 2846.41037623256,
-                    exact: "(7855393502301198187500000000/(270005432091649700902729*pi^4) - 26830390508014500000000000*sqrt(3)/(1597665278648814798241*pi^4)) / (43560000000000/(6755066100601*pi^2) + 4563345600000000000000/(17556761303833129651*pi^3) - 3047762520000000000000*sqrt(3)/(17556761303833129651*pi^3) + 21495855495510000000000000000/(3510070617191446111735477*pi^4) - 159641800797600000000000000000*sqrt(3)/(45630918023488799452561201*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (3300000/(2599051*pi) + 172854000000000/(6755066100601*pi^2) - 115445550000000*sqrt(3)/(6755066100601*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); its roots are then 0 and -2 S alpha U/N^2 with S = b/(2a) > 0: none is positive, at every Re and alpha",
             },
         ],
-        no_c0: &[],
         eps_lattice: EpsLattice {
             lattice: Lattice::Triangular,
             layers: 3i32,
@@ -544,145 +444,25 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             symmetric: true,
             label: "t = 0 (exact: the maximum the search found is attained there)",
         },
-        c0_models: &[
-            C0Model {
-                name: "field-av",
-                description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
-                a: Derived {
-                    value: -0.0008731223154313908,
-                    exact: "-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-30/pi + 180*sqrt(2)/(7*pi) + 13800/(7*pi^2) - 69000*sqrt(2)/(49*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (108900/(49*pi^2) - 10800*sqrt(2)/(7*pi^2) - 90252000/(343*pi^3) + 9108000*sqrt(2)/(49*pi^3) + 18853560000/(2401*pi^4) - 1904400000*sqrt(2)/(343*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2))",
-                    is_exact: true,
-                },
+        c0_models: &[],
+        no_c0: &[
+            NoC0 {
+                model: "field-av",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); with b = 0 too (the artificial viscosity acts alike in both configurations) the balance is a c0^2 = 0: c0 = 0, at every Re and alpha",
             },
-            C0Model {
-                name: "field",
-                description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
-                a: Derived {
-                    value: -0.0008731223154313908,
-                    exact: "-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.08282302831525917,
-                    exact: "12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 47.429224320270706,
-                    exact: "(12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)) / (-30/pi + 180*sqrt(2)/(7*pi) + 13800/(7*pi^2) - 69000*sqrt(2)/(49*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 2249.531319622558,
-                    exact: "(333855000/(2401*pi^4) - 236070000*sqrt(2)/(2401*pi^4)) / (108900/(49*pi^2) - 10800*sqrt(2)/(7*pi^2) - 90252000/(343*pi^3) + 9108000*sqrt(2)/(49*pi^3) + 18853560000/(2401*pi^4) - 1904400000*sqrt(2)/(343*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (-15/pi + 90*sqrt(2)/(7*pi) + 6900/(7*pi^2) - 34500*sqrt(2)/(49*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "field",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); its roots are then 0 and -2 S alpha U/N^2 with S = b/(2a) > 0: none is positive, at every Re and alpha",
             },
-            C0Model {
-                name: "pair-av",
-                description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
-                a: Derived {
-                    value: -0.0005878497708079031,
-                    exact: "15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: -0.0,
-                    exact: "(0) / (30/(7*pi) - 6600/(49*pi^2) + 600*sqrt(2)/(7*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 0.0,
-                    exact: "(0) / (900/(49*pi^2) - 396000/(343*pi^3) + 36000*sqrt(2)/(49*pi^3) + 78840000/(2401*pi^4) - 7920000*sqrt(2)/(343*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair-av",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); with b = 0 too (the artificial viscosity acts alike in both configurations) the balance is a c0^2 = 0: c0 = 0, at every Re and alpha",
             },
-            C0Model {
-                name: "pair",
-                description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
-                a: Derived {
-                    value: -0.0005878497708079031,
-                    exact: "15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2)",
-                    is_exact: true,
-                },
-                b: Derived {
-                    value: -0.08282302831525917,
-                    exact: "12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)",
-                    is_exact: true,
-                },
-                c: Derived {
-                    value: 0.0,
-                    exact: "0",
-                    is_exact: true,
-                },
-                s: Derived {
-                    value: 70.44574347748109,
-                    exact: "(12900/(49*pi^2) - 9150*sqrt(2)/(49*pi^2)) / (30/(7*pi) - 6600/(49*pi^2) + 600*sqrt(2)/(7*pi^2))",
-                    is_exact: true,
-                },
-                p: Derived {
-                    value: 4962.602774095069,
-                    exact: "(333855000/(2401*pi^4) - 236070000*sqrt(2)/(2401*pi^4)) / (900/(49*pi^2) - 396000/(343*pi^3) + 36000*sqrt(2)/(49*pi^3) + 78840000/(2401*pi^4) - 7920000*sqrt(2)/(343*pi^4))",
-                    is_exact: true,
-                },
-                q: Derived {
-                    value: -0.0,
-                    exact: "(0) / (15/(7*pi) - 3300/(49*pi^2) + 300*sqrt(2)/(7*pi^2))",
-                    is_exact: true,
-                },
+            NoC0 {
+                model: "pair",
+                fact: "no c0: the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second moments being isotropic (G(0) = 2 dy^2 V(0)); its roots are then 0 and -2 S alpha U/N^2 with S = b/(2a) > 0: none is positive, at every Re and alpha",
             },
         ],
-        no_c0: &[],
         eps_lattice: EpsLattice {
             lattice: Lattice::Square,
             layers: 2i32,
@@ -753,6 +533,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.0034149528881587594,
                     exact: "-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2)",
@@ -787,6 +572,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.0034149528881587594,
                     exact: "-6060000/(371293*pi) + 5931000*sqrt(5)/(2599051*pi) + 1485000*sqrt(13)/(371293*pi) + 6650950290000000/(6755066100601*pi^2) - 1603418757000000*sqrt(5)/(6755066100601*pi^2) - 17244015000000*sqrt(13)/(74231495611*pi^2) + 313073190000000*sqrt(65)/(6755066100601*pi^2)",
@@ -821,6 +611,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.0013541915337324933,
                     exact: "3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2)",
@@ -855,6 +650,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.0013541915337324933,
                     exact: "3300000/(2599051*pi) - 26132700000000/(519620469277*pi^2) + 77236500000000*sqrt(5)/(6755066100601*pi^2) + 2986500000000*sqrt(13)/(519620469277*pi^2)",
@@ -952,12 +752,17 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: false,
             },
             symmetric: false,
-            label: "t = 0.040052333253420427593 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits)",
+            label: "t = 0.040052333253420427593 T and its mirror T - t = 0.95994766674657957241 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits). The configuration at T - t is the one at t mirrored in x: eps0, G, V and the pair's sum are the same there, the artificial viscosity's Av is not (Av = -0.208635128881 at t, -0.200643951527 at T - t: it sums the approaching pairs, x > 0, which the mirror exchanges with receding ones), so each -av model is derived at the one where its S is smaller, which gives it the larger c0 at every Re and alpha",
         },
         c0_models: &[
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.040052333253420426,
+                    exact: "0.04005233325342",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.00170104585524044,
                     exact: "-0.00170104585524044019050272161473 (30 significant digits)",
@@ -992,6 +797,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.040052333253420426,
+                    exact: "0.04005233325342",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.00170104585524044,
                     exact: "-0.00170104585524044019050272161473 (30 significant digits)",
@@ -1026,6 +836,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.040052333253420426,
+                    exact: "0.04005233325342",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0003133422086599984,
                     exact: "-0.000313342208659998379326743598192 (30 significant digits)",
@@ -1060,6 +875,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.040052333253420426,
+                    exact: "0.04005233325342",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0003133422086599984,
                     exact: "-0.000313342208659998379326743598192 (30 significant digits)",

@@ -105,6 +105,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.033353366187712355,
                     exact: "665/(8*pi) - 1925*sqrt(7)/(64*pi) - 34312005/(8192*pi^2) + 191601025*sqrt(3)/(32768*pi^2) + 99324225*sqrt(7)/(65536*pi^2) - 142445695*sqrt(21)/(65536*pi^2)",
@@ -139,6 +144,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.033353366187712355,
                     exact: "665/(8*pi) - 1925*sqrt(7)/(64*pi) - 34312005/(8192*pi^2) + 191601025*sqrt(3)/(32768*pi^2) + 99324225*sqrt(7)/(65536*pi^2) - 142445695*sqrt(21)/(65536*pi^2)",
@@ -173,6 +183,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.020576818741540555,
                     exact: "35/(16*pi) - 1805895/(16384*pi^2) + 1765225*sqrt(3)/(16384*pi^2) - 149205*sqrt(21)/(8192*pi^2)",
@@ -207,6 +222,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.020576818741540555,
                     exact: "35/(16*pi) - 1805895/(16384*pi^2) + 1765225*sqrt(3)/(16384*pi^2) - 149205*sqrt(21)/(8192*pi^2)",
@@ -310,6 +330,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.008603872903447496,
                     exact: "11043637500/(62748517*pi) - 481906250*sqrt(7)/(62748517*pi) - 2190125000*sqrt(19)/(62748517*pi) - 38695611623730468750/(3937376385699289*pi^2) + 61460183960370234375*sqrt(3)/(3937376385699289*pi^2) + 1688543026611328125*sqrt(7)/(3937376385699289*pi^2) + 7673941344726562500*sqrt(19)/(3937376385699289*pi^2) - 13749849044938671875*sqrt(21)/(15749505542797156*pi^2) - 1016579192201562500*sqrt(57)/(302875106592253*pi^2) + 982170917724609375*sqrt(399)/(7874752771398578*pi^2)",
@@ -344,6 +369,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.008603872903447496,
                     exact: "11043637500/(62748517*pi) - 481906250*sqrt(7)/(62748517*pi) - 2190125000*sqrt(19)/(62748517*pi) - 38695611623730468750/(3937376385699289*pi^2) + 61460183960370234375*sqrt(3)/(3937376385699289*pi^2) + 1688543026611328125*sqrt(7)/(3937376385699289*pi^2) + 7673941344726562500*sqrt(19)/(3937376385699289*pi^2) - 13749849044938671875*sqrt(21)/(15749505542797156*pi^2) - 1016579192201562500*sqrt(57)/(302875106592253*pi^2) + 982170917724609375*sqrt(399)/(7874752771398578*pi^2)",
@@ -378,6 +408,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.003470992810397745,
                     exact: "89600000/(62748517*pi) - 313947900000000000/(3937376385699289*pi^2) + 359684831240000000*sqrt(3)/(3937376385699289*pi^2) - 12193650000000000*sqrt(21)/(3937376385699289*pi^2) - 35890050000000000*sqrt(57)/(3937376385699289*pi^2)",
@@ -412,6 +447,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.003470992810397745,
                     exact: "89600000/(62748517*pi) - 313947900000000000/(3937376385699289*pi^2) + 359684831240000000*sqrt(3)/(3937376385699289*pi^2) - 12193650000000000*sqrt(21)/(3937376385699289*pi^2) - 35890050000000000*sqrt(57)/(3937376385699289*pi^2)",
@@ -515,6 +555,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.03796810817328829,
                     exact: "9275/(32*pi) - 1855*sqrt(5)/(256*pi) - 19215*sqrt(13)/(256*pi) + 2418647105/(32768*pi^2) - 144068575*sqrt(5)/(32768*pi^2) - 663017775*sqrt(13)/(32768*pi^2) + 36431745*sqrt(65)/(32768*pi^2)",
@@ -549,6 +594,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.03796810817328829,
                     exact: "9275/(32*pi) - 1855*sqrt(5)/(256*pi) - 19215*sqrt(13)/(256*pi) + 2418647105/(32768*pi^2) - 144068575*sqrt(5)/(32768*pi^2) - 663017775*sqrt(13)/(32768*pi^2) + 36431745*sqrt(65)/(32768*pi^2)",
@@ -583,6 +633,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.027562120820970655,
                     exact: "35/(16*pi) + 635775/(2048*pi^2) - 104125*sqrt(5)/(4096*pi^2) - 296205*sqrt(13)/(4096*pi^2)",
@@ -617,6 +672,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.5,
+                    exact: "1/2",
+                    is_exact: true,
+                },
                 a: Derived {
                     value: -0.027562120820970655,
                     exact: "35/(16*pi) + 635775/(2048*pi^2) - 104125*sqrt(5)/(4096*pi^2) - 296205*sqrt(13)/(4096*pi^2)",
@@ -714,12 +774,17 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: false,
             },
             symmetric: false,
-            label: "t = 0.10653726222329044274 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits)",
+            label: "t = 0.10653726222329044274 T and its mirror T - t = 0.89346273777670955726 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits). The configuration at T - t is the one at t mirrored in x: eps0, G, V and the pair's sum are the same there, the artificial viscosity's Av is not (Av = -0.144864073638 at t, -0.121866383884 at T - t: it sums the approaching pairs, x > 0, which the mirror exchanges with receding ones), so each -av model is derived at the one where its S is smaller, which gives it the larger c0 at every Re and alpha",
         },
         c0_models: &[
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.10653726222329045,
+                    exact: "0.1065372622233",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.01036372764825378,
                     exact: "-0.0103637276482537807659060143039 (30 significant digits)",
@@ -754,6 +819,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.10653726222329045,
+                    exact: "0.1065372622233",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.01036372764825378,
                     exact: "-0.0103637276482537807659060143039 (30 significant digits)",
@@ -788,6 +858,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.10653726222329045,
+                    exact: "0.1065372622233",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.00483359714725862,
                     exact: "-0.00483359714725861960840928788344 (30 significant digits)",
@@ -822,6 +897,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.10653726222329045,
+                    exact: "0.1065372622233",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.00483359714725862,
                     exact: "-0.00483359714725861960840928788344 (30 significant digits)",
@@ -919,12 +999,17 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
                 is_exact: false,
             },
             symmetric: false,
-            label: "t = 0.095271433962846302252 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits)",
+            label: "t = 0.095271433962846302252 T and its mirror T - t = 0.90472856603715369775 T (where the search found the maximum; not a symmetric configuration: sums evaluated at 197 bits). The configuration at T - t is the one at t mirrored in x: eps0, G, V and the pair's sum are the same there, the artificial viscosity's Av is not (Av = -0.205700858861 at t, -0.190219251712 at T - t: it sums the approaching pairs, x > 0, which the mirror exchanges with receding ones), so each -av model is derived at the one where its S is smaller, which gives it the larger c0 at every Re and alpha",
         },
         c0_models: &[
             C0Model {
                 name: "field-av",
                 description: "default: compaction as a pressure field over every neighbour (slope c0^2 eps0/d, like the body force's), and the artificial viscosity (31) evaluated at maximum compaction from its lattice sum; it keeps every term of the equation of motion in both configurations, as the paper asks, and treats compaction and thrust alike",
+                t: Derived {
+                    value: 0.0952714339628463,
+                    exact: "0.09527143396285",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0031043154580401916,
                     exact: "-0.00310431545804019171423199583120 (30 significant digits)",
@@ -959,6 +1044,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "field",
                 description: "compaction as a pressure field over every neighbour; artificial viscosity set to 0 at maximum compaction, as (34) has it for R = 1",
+                t: Derived {
+                    value: 0.0952714339628463,
+                    exact: "0.09527143396285",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0031043154580401916,
                     exact: "-0.00310431545804019171423199583120 (30 significant digits)",
@@ -993,6 +1083,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair-av",
                 description: "compaction carried only by the two nearest neighbours of the own layer (27); artificial viscosity evaluated at maximum compaction",
+                t: Derived {
+                    value: 0.0952714339628463,
+                    exact: "0.09527143396285",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0007331979197087864,
                     exact: "-0.000733197919708786390455484038504 (30 significant digits)",
@@ -1027,6 +1122,11 @@ pub const DISCRETISATIONS: [DiscretisationInfo; 5usize] = [
             C0Model {
                 name: "pair",
                 description: "the literal transcription of the R = 1 text: compaction carried only by the two nearest neighbours of the own layer (27), artificial viscosity 0 at maximum compaction",
+                t: Derived {
+                    value: 0.0952714339628463,
+                    exact: "0.09527143396285",
+                    is_exact: false,
+                },
                 a: Derived {
                     value: -0.0007331979197087864,
                     exact: "-0.000733197919708786390455484038504 (30 significant digits)",

@@ -70,6 +70,12 @@ pub struct EpsInfo {
 pub struct C0Model {
     pub name: &'static str,
     pub description: &'static str,
+    /// t / T of the configuration its coefficients come from: the maximum
+    /// compaction's (`C0Configuration::t`), or for an `-av` model at a
+    /// maximum off the symmetric configurations its mirror T - t when the
+    /// model's c0 is larger there (the generator takes the stricter of the
+    /// two instants; see `C0Configuration::label`).
+    pub t: Derived,
     pub a: Derived,
     pub b: Derived,
     pub c: Derived,

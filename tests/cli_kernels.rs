@@ -88,3 +88,84 @@ fn kernels_table_names_every_kernel_and_flags_missing_roots() {
         }
     }
 }
+
+/// Issue 33 item 4: where the generator states "no c0" for a derived model
+/// (the maximum compaction at t = 0, a lattice that never compacts), `c0`
+/// lists the fact in that model's row, and `run --c0 derived:MODEL` (and
+/// derived-eps for the default model's) is refused with it, exit 1, before
+/// any step: every such model on every shipped discretisation.
+#[test]
+fn a_derived_model_without_c0_is_refused_with_the_generators_fact() {
+    let mut cases = 0;
+    for k in KERNELS {
+        for d in k.discretisations {
+            if d.no_c0.is_empty() {
+                continue;
+            }
+            let h = d.h_over_d_exact;
+            let scene = [
+                "--kernel",
+                k.name,
+                "--n",
+                "10",
+                "--re",
+                "10",
+                "--lattice",
+                d.lattice.name(),
+                "--h-over-d",
+                h,
+            ];
+            let mut args = vec!["c0"];
+            args.extend(scene);
+            let o = shearsph(&args);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            let table = String::from_utf8(o.stdout).unwrap();
+            let dir = tempfile::tempdir().unwrap();
+            for m in d.no_c0 {
+                let rule = format!("derived:{}", m.model);
+                let line = table
+                    .lines()
+                    .find(|l| l.split_whitespace().next() == Some(rule.as_str()))
+                    .unwrap_or_else(|| panic!("{rule} in {table}"));
+                assert!(line.contains(m.fact), "{line}");
+                let mut rules = vec![rule];
+                if m.model == k.c0_default {
+                    rules.push("derived-eps".into());
+                }
+                for rule in rules {
+                    let out = dir.path().join(rule.replace(':', "_"));
+                    let mut args = vec!["run"];
+                    args.extend(scene);
+                    args.extend(["--c0", &rule, "--out", out.to_str().unwrap()]);
+                    let o = shearsph(&args);
+                    let err = String::from_utf8_lossy(&o.stderr);
+                    assert_eq!(
+                        o.status.code(),
+                        Some(1),
+                        "{} {} {rule}: {err}",
+                        k.name,
+                        d.label()
+                    );
+                    assert!(err.contains(m.fact), "{err}");
+                    assert!(!out.join("profile.csv").exists());
+                    cases += 1;
+                }
+            }
+        }
+    }
+    // the issue's cases are among them
+    let morris = KERNELS.iter().find(|k| k.name == "morris").unwrap();
+    let sq17 = morris
+        .discretisation(shearsph::kernel::Lattice::Square, 1.7)
+        .unwrap();
+    assert!(sq17.no_c0_fact("field").is_some());
+    let composite = KERNELS.iter().find(|k| k.name == "composite").unwrap();
+    let tri13 = composite
+        .discretisation(shearsph::kernel::Lattice::Triangular, 1.3)
+        .unwrap();
+    assert!(tri13
+        .no_c0_fact("field-av")
+        .unwrap()
+        .contains("never compacts"));
+    assert!(cases >= 8, "{cases}");
+}

@@ -206,3 +206,45 @@ fn registry_lists_every_definition() {
         assert!(info.c0_model(info.c0_default).is_some());
     }
 }
+
+/// Issue 33 item 4: no emitted model's c0 is a floating-point leftover. A
+/// model whose exact constant term is 0 with S >= 0 (the maximum at t = 0)
+/// has no c0 at any scene and is emitted as a fact, so every model that is
+/// emitted either has no positive root at a scene or one well above the
+/// rounding of its terms; a lattice that never compacts emits no model.
+#[test]
+fn no_emitted_c0_is_a_rounding_leftover() {
+    let mut facts = 0;
+    for info in KERNELS {
+        for di in info.discretisations {
+            let label = format!("{} on {}", info.name, di.label());
+            for m in di.c0_models {
+                assert!(
+                    !(m.q.value == 0.0 && m.s.value >= 0.0),
+                    "{label} {}: Q = 0, S >= 0 emitted as a model",
+                    m.name
+                );
+                for a in [1.0, 10.0, 100.0, 1000.0] {
+                    for alpha in [0.01, 0.1, 1.0] {
+                        let (p, q, s) = (m.p.value, m.q.value, m.s.value);
+                        let root = (p * alpha * alpha + q * a).sqrt() - s * alpha;
+                        let scale = s.abs() * alpha + (q.abs() * a).sqrt();
+                        assert!(
+                            root.is_nan() || root <= 0.0 || root > 1e-12 * scale,
+                            "{label} {}: c0 (U/N^2) {root} at A = {a}, alpha = {alpha}",
+                            m.name
+                        );
+                    }
+                }
+            }
+            if di.eps.max.value < 0.0 {
+                assert!(di.c0_models.is_empty(), "{label}");
+                for nc in di.no_c0 {
+                    assert!(nc.fact.contains("never compacts"), "{label}: {}", nc.fact);
+                }
+            }
+            facts += di.no_c0.len();
+        }
+    }
+    assert!(facts > 0, "the shipped set has degenerate cases");
+}

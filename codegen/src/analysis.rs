@@ -59,8 +59,24 @@ pub struct C0Configuration {
     pub eps0: Known,
     /// Neighbours (self excluded) in reach there.
     pub neighbours: usize,
-    /// For the reader: "t = 0.5 T (exact)" or "t = 0.0912... T (search, 133 bits)".
+    /// For the reader: "t = 0.5 T (exact)" or "t = 0.0912... T and its
+    /// mirror T - t ... (search, 133 bits)".
     pub label: String,
+    /// At a maximum off the symmetric configurations: its mirror instant
+    /// T - t, where eps is the same maximum (see `c0::stricter_mirror`).
+    pub mirror: Option<Mirror>,
+}
+
+/// The mirror instant T - t of a maximum at t off the symmetric
+/// configurations, and the artificial viscosity's sum at both (the only sum
+/// of the balance that differs between them).
+#[derive(Clone, Debug)]
+pub struct Mirror {
+    /// (T - t) / T.
+    pub tau: Known,
+    /// Av at t and at T - t.
+    pub av_t: Float,
+    pub av_mirror: Float,
 }
 
 /// The analysis of one kernel on one discretisation.
@@ -311,7 +327,16 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
     let facts = lattice_facts(disc, &sums_t0, &eps_t0, prec);
     let fr = FloatRadial::new(&def.w, prec);
     let curve = EpsCurve::new(&fr, r, disc, Site::CENTRE);
-    let (mx, mn) = compaction::extremes(&curve);
+    let (mut mx, mut mn) = compaction::extremes(&curve);
+    // eps(t) = eps(T - t) for the centre particle (the configuration at
+    // T - t is the one at t mirrored in x): state the earlier of the two,
+    // whichever the search returned
+    for e in [&mut mx, &mut mn] {
+        let mirror = Float::with_val(prec, 1u32 - &e.tau);
+        if mirror < e.tau {
+            e.tau = mirror;
+        }
+    }
     let t0_known = Known::exact(eps_t0.clone(), prec, "exact lattice sum");
     let half_known = Known::exact(eps_half.clone(), prec, "exact lattice sum");
     let at_max = recognise_any(&mx, &t0_known, &half_known, prec);
@@ -344,7 +369,14 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
                 Config::Half => (&eps_half, &sums_half, &terms_half),
             };
             let neighbours = terms.iter().filter(|t| !t.nb.is_self()).count();
-            let models = c0::derive_all(Ok(eps0), &sums_t0, Ok(s1), disc, neighbours, prec);
+            let at = c0::AtMax {
+                eps0: Ok(eps0),
+                sums: Ok(s1),
+                neighbours,
+                config: Some(c),
+                tau: &eps.t_max,
+            };
+            let models = c0::derive_all(&at, &sums_t0, disc, prec);
             let config = C0Configuration {
                 symmetric: Some(c),
                 tau: eps.t_max.clone(),
@@ -354,27 +386,67 @@ fn analyse_disc(def: &KernelDef, disc: &Discretisation, opts: Options, prec: u32
                     "{} (exact: the maximum the search found is attained there)",
                     c.label()
                 ),
+                mirror: None,
             };
             (config, models)
         }
         None => {
-            let nbs: Vec<_> = curve
-                .neighbours(&mx.tau)
-                .into_iter()
-                .filter(|n| !n.2.is_zero())
-                .collect();
+            // the maximum at t (t < T/2) and at its mirror T - t
             let frdw = FloatRadial::new(&def.dw, prec);
-            let s1 = FloatSums::at(&frdw, &nbs, disc, prec);
-            let models = c0::derive_all(Err(&mx.value), &sums_t0, Err(&s1), disc, nbs.len(), prec);
+            let sums_at = |tau: &Float| {
+                let nbs: Vec<_> = curve
+                    .neighbours(tau)
+                    .into_iter()
+                    .filter(|n| !n.2.is_zero())
+                    .collect();
+                (FloatSums::at(&frdw, &nbs, disc, prec), nbs.len())
+            };
+            let tau_m = Float::with_val(prec, 1u32 - &mx.tau);
+            let (s_t, n_t) = sums_at(&mx.tau);
+            let (s_m, _) = sums_at(&tau_m);
+            let mirror = Mirror {
+                tau: Known {
+                    value: tau_m.clone(),
+                    how: "T - t: the mirror of the search's maximum".into(),
+                    ..eps.t_max.clone()
+                },
+                av_t: s_t.av.clone(),
+                av_mirror: s_m.av.clone(),
+            };
+            let derive = |s: &FloatSums, tau: &Known| {
+                let at = c0::AtMax {
+                    eps0: Err(&mx.value),
+                    sums: Err(s),
+                    neighbours: n_t,
+                    config: None,
+                    tau,
+                };
+                c0::derive_all(&at, &sums_t0, disc, prec)
+            };
+            let models = derive(&s_t, &eps.t_max)
+                .into_iter()
+                .zip(derive(&s_m, &mirror.tau))
+                .map(|(at_t, at_m)| c0::stricter_mirror(at_t, at_m))
+                .collect();
             let config = C0Configuration {
                 symmetric: None,
                 tau: eps.t_max.clone(),
                 eps0: eps.max.clone(),
-                neighbours: nbs.len(),
+                neighbours: n_t,
                 label: format!(
-                    "t = {} T (where the search found the maximum; not a symmetric configuration: sums evaluated at {prec} bits)",
-                    decimal(&mx.tau, 20)
+                    "t = {} T and its mirror T - t = {} T (where the search found the maximum; not a \
+                     symmetric configuration: sums evaluated at {prec} bits). The configuration at T - t \
+                     is the one at t mirrored in x: eps0, G, V and the pair's sum are the same there, \
+                     the artificial viscosity's Av is not (Av = {} at t, {} at T - t: it sums the \
+                     approaching pairs, x > 0, which the mirror exchanges with receding ones), so each \
+                     -av model is derived at the one where its S is smaller, which gives it the larger \
+                     c0 at every Re and alpha",
+                    decimal(&mx.tau, 20),
+                    decimal(&tau_m, 20),
+                    decimal(&mirror.av_t, 12),
+                    decimal(&mirror.av_mirror, 12),
                 ),
+                mirror: Some(mirror),
             };
             (config, models)
         }

@@ -34,8 +34,8 @@
 //! compaction. Its root is c0 = (U/N^2)(sqrt(P alpha^2 + Q A) - S alpha) with
 //! S = b/(2a), P = S^2, Q = -c/a, A = p d N^4/U^2.
 
-use crate::compaction::FloatRadial;
-use crate::exact::{Exact, Ratio};
+use crate::compaction::{FloatRadial, Known};
+use crate::exact::{decimal, Exact, Ratio};
 use crate::kernel::Radial;
 use crate::lattice::{stencil, Config, Discretisation, Neighbour};
 use rug::{Float, Rational};
@@ -228,8 +228,46 @@ pub struct Coefs {
 pub struct ModelC0 {
     pub model: Model,
     pub exact: Option<Derivation>,
-    /// `Err(fact)` when a = 0: no c0.
+    /// `Err(fact)` when the derivation gives no c0 at any Re and alpha: the
+    /// lattice never compacts (max eps < 0), a = eps0 K = 0, or c = 0
+    /// exactly with no positive root (see [`derive_all`]).
     pub coefs: Result<Coefs, String>,
+    /// t / T of the configuration the coefficients come from: the maximum's,
+    /// or for an `-av` model at a maximum off the symmetric configurations
+    /// whichever of t and T - t gives it the larger c0 ([`stricter_mirror`]).
+    pub tau: Known,
+}
+
+/// Why the lattice gives no c0 when its maximum compaction is negative.
+fn never_compacts(eps0: &Float, tau: &Known) -> String {
+    format!(
+        "no c0: the lattice never compacts: the maximum of eps over the period is {} < 0 (at t = {} T), \
+         so there is no compaction for a sound speed to balance",
+        decimal(eps0, 6),
+        match &tau.exact {
+            Some(t) => t.to_f64().to_string(),
+            None => decimal(&tau.value, 6),
+        }
+    )
+}
+
+/// Why an exact balance with c = 0 has no positive root: its roots are 0
+/// and -b alpha (U/N^2)/a = -2 S alpha U/N^2, and S >= 0.
+fn constant_term_zero(d: &Derivation, config: Option<Config>) -> String {
+    let why = if config == Some(Config::T0) {
+        "the maximum compaction is at t = 0, the undisturbed lattice, so the balance compares it with \
+         itself: its constant term c = eps0 (2 dy^2 V(0) - G(0)) is exactly 0, the lattice's second \
+         moments being isotropic (G(0) = 2 dy^2 V(0))"
+    } else {
+        "the constant term c of the balance is exactly 0"
+    };
+    let roots = if d.b.is_zero() {
+        "with b = 0 too (the artificial viscosity acts alike in both configurations) the balance is \
+         a c0^2 = 0: c0 = 0"
+    } else {
+        "its roots are then 0 and -2 S alpha U/N^2 with S = b/(2a) > 0: none is positive"
+    };
+    format!("no c0: {why}; {roots}, at every Re and alpha")
 }
 
 /// Why a = eps0 K vanishes, as a fact for the reader.
@@ -357,16 +395,40 @@ pub fn derive_float(
     Some(Coefs { a, b, c, s, p, q })
 }
 
-/// Every model at a symmetric configuration (exact), or at a searched one
-/// (high precision).
-pub fn derive_all(
-    eps0: Result<&Exact, &Float>,
-    s0: &Sums,
-    s1: Result<&Sums, &FloatSums>,
-    disc: &Discretisation,
-    n_neighbours: usize,
-    prec: u32,
-) -> Vec<ModelC0> {
+/// The configuration of maximum compaction a balance is taken at: exact
+/// (`Ok`) at a symmetric configuration, high precision (`Err`) at a searched
+/// one.
+#[derive(Clone, Copy, Debug)]
+pub struct AtMax<'a> {
+    /// eps0, the maximum of eps.
+    pub eps0: Result<&'a Exact, &'a Float>,
+    /// The lattice sums there.
+    pub sums: Result<&'a Sums, &'a FloatSums>,
+    /// Neighbours (self excluded) in reach there.
+    pub neighbours: usize,
+    /// The symmetric configuration, when it is one.
+    pub config: Option<Config>,
+    /// t / T.
+    pub tau: &'a Known,
+}
+
+/// Every model at a symmetric configuration (`at.config`, exact), or at a
+/// searched one (`None`, high precision), at `at.tau`. No c0, as a
+/// fact, where the data decide it at every Re and alpha:
+///
+/// - max eps < 0: the lattice never compacts (also for derived-eps);
+/// - a = eps0 K = 0 (see `degenerate`);
+/// - exactly c = 0 (always so when the maximum is at t = 0) with S >= 0:
+///   the roots 0 and -2 S alpha U/N^2 are not positive. (With S < 0 the
+///   root -2 S alpha U/N^2 is positive and the model keeps it.)
+pub fn derive_all(at: &AtMax, s0: &Sums, disc: &Discretisation, prec: u32) -> Vec<ModelC0> {
+    let AtMax {
+        eps0,
+        sums: s1,
+        neighbours: n_neighbours,
+        config,
+        tau,
+    } = *at;
     let vf = viscous_factor(disc);
     MODELS
         .iter()
@@ -383,24 +445,58 @@ pub fn derive_all(
                 (Ok(e), Ok(s)) => derive(model, e, s0, s, &vf),
                 _ => None,
             };
-            let coefs = match &exact {
-                Some(d) => Ok(Coefs::from_exact(d, prec)),
-                None => derive_float(
-                    model,
-                    &eps0_f,
-                    &FloatSums::from_exact(s0, prec),
-                    &fs1,
-                    &vf.to_float(prec),
-                )
-                .ok_or_else(|| degenerate(model, eps0_f.is_zero(), n_neighbours)),
+            let coefs = if eps0_f < 0 {
+                Err(never_compacts(&eps0_f, tau))
+            } else {
+                match &exact {
+                    Some(d) => {
+                        let c = Coefs::from_exact(d, prec);
+                        if d.c.is_zero() && c.s >= 0 {
+                            Err(constant_term_zero(d, config))
+                        } else {
+                            Ok(c)
+                        }
+                    }
+                    None => derive_float(
+                        model,
+                        &eps0_f,
+                        &FloatSums::from_exact(s0, prec),
+                        &fs1,
+                        &vf.to_float(prec),
+                    )
+                    .ok_or_else(|| degenerate(model, eps0_f.is_zero(), n_neighbours)),
+                }
             };
             ModelC0 {
                 model,
-                exact,
+                exact: exact.filter(|_| coefs.is_ok()),
                 coefs,
+                tau: tau.clone(),
             }
         })
         .collect()
+}
+
+/// Of one model derived at a maximum t off the symmetric configurations
+/// (`at_t`) and at its mirror T - t (`at_mirror`), the one to use. The
+/// configuration at T - t is the one at t mirrored in x, so eps0, G, V and
+/// the pair's sum agree there, and a model without artificial viscosity at
+/// the maximum is the same at both: it keeps `at_t`. The artificial
+/// viscosity's Av sums only the approaching pairs (x > 0), which the mirror
+/// exchanges with receding ones, so b and S differ: an `-av` model takes the
+/// one with the smaller S, whose c0 = (U/N^2)(sqrt(S^2 alpha^2 + Q A) - S
+/// alpha) (Q the same at both) is the larger at every Re and alpha where
+/// either has a positive root: the stricter of the two instants, whichever
+/// one the search happened to return.
+pub fn stricter_mirror(at_t: ModelC0, at_mirror: ModelC0) -> ModelC0 {
+    if !at_t.model.av_at_max {
+        return at_t;
+    }
+    match (&at_t.coefs, &at_mirror.coefs) {
+        (Ok(x), Ok(y)) if y.s < x.s => at_mirror,
+        (Err(_), Ok(_)) => at_mirror,
+        _ => at_t,
+    }
 }
 
 /// The balance exactly; `None` when a = eps0 K = 0 (no c0).

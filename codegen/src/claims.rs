@@ -6,8 +6,32 @@ use crate::analysis::{EpsSummary, Fact};
 use crate::compaction::{self, EpsCurve, FloatRadial, Site};
 use crate::exact::{decimal, Exact};
 use crate::kernel::KernelDef;
-use crate::lattice::{max_layer_offset, Discretisation};
+use crate::lattice::{layer_speed, max_layer_offset, Discretisation};
 use rug::{Float, Rational};
+
+/// The largest N (`show --n-layers`) the claims are checked for. The claim
+/// that the amplitude of eps does not depend on n searches eps(t) at every
+/// layer n = 1 .. N - R, and layer n's curve has a top frequency of about
+/// 2 n R h/d (the speed of its farthest row), so the work grows as N^2: N =
+/// 100 takes one to two minutes for a shipped kernel (monaghan 63 s, morris
+/// 107 s on a loaded 2-core machine). (The mean's claim costs the same at
+/// any N: see `mean_claim`.)
+pub const MAX_CHECK_LAYERS: i64 = 100;
+
+/// The fewest layers N the claims need on `disc`: the support reaches
+/// ceil(R h/d) layers, and the claims compare layers 1 .. N - ceil(R h/d).
+pub fn min_check_layers(def: &KernelDef, disc: &Discretisation) -> i64 {
+    reach_layers(def, disc) + 1
+}
+
+/// Layers in reach of the support, in whole d: ceil(R h/d).
+fn reach_layers(def: &KernelDef, disc: &Discretisation) -> i64 {
+    disc.support_d(&def.support)
+        .ceil()
+        .numer()
+        .to_i64()
+        .unwrap_or(i64::MAX)
+}
 
 /// The curve's amplitude (max - min) and mean for a site, at `prec` bits.
 fn amplitude(
@@ -30,12 +54,7 @@ pub fn claims(def: &KernelDef, disc: &Discretisation, eps: &EpsSummary, nl: i64)
     let r = &def.support;
     let kmax = max_layer_offset(disc, r);
     // layers in reach of the support, in whole d (ceil(R) for h = d)
-    let rr = disc
-        .support_d(r)
-        .ceil()
-        .numer()
-        .to_i64()
-        .unwrap_or(i64::MAX);
+    let rr = reach_layers(def, disc);
     let check_prec = 128;
     let frc = FloatRadial::new(&def.w, check_prec);
     let mut claims = Vec::new();
@@ -105,9 +124,25 @@ fn mean_claim(def: &KernelDef, disc: &Discretisation, nl: i64, rr: i64, prec: u3
     };
     let mut mean_bad = Vec::new();
     let mut means = Vec::new();
-    let mean1 = compaction::mean(&def.w, r, disc, site(nl - rr), prec);
-    for n in 1..=(nl - rr) {
+    // the mean of layer n depends on n only through which layers in reach
+    // are at rest relative to it (its own, and the mirror layer -n when
+    // 2 n <= kmax): one derivation per such set, whatever N is
+    let kmax = max_layer_offset(disc, r);
+    let mut by_rest: Vec<(Vec<i64>, compaction::Known)> = Vec::new();
+    let mut mean_at = |n: i64| {
+        let rest: Vec<i64> = (-kmax..=kmax)
+            .filter(|&k| layer_speed(n, k, Some(nl)) == 0)
+            .collect();
+        if let Some((_, m)) = by_rest.iter().find(|(r, _)| *r == rest) {
+            return m.clone();
+        }
         let m = compaction::mean(&def.w, r, disc, site(n), prec);
+        by_rest.push((rest, m.clone()));
+        m
+    };
+    let mean1 = mean_at(nl - rr);
+    for n in 1..=(nl - rr) {
+        let m = mean_at(n);
         means.push(format!("n={n}: {}", decimal(&m.value, 8)));
         let d = Float::with_val(prec, &m.value - &mean1.value)
             .abs()

@@ -5,11 +5,12 @@
 //! ```toml
 //! [[discretisation]]
 //! lattice = "square"      # "triangular" or "square"
-//! h_over_d = "13/10"      # any positive rational: an integer or a string "13/10", "1.3"
+//! h_over_d = "13/10"      # a positive rational up to 4: an integer or a string "13/10", "1.3";
+//!                         # denominator at most 1000 (kernel::MAX_DENOMINATOR)
 //! note = "SPHinXsys"      # optional, for the reader
 //! ```
 
-use crate::kernel::{line_col, KernelError};
+use crate::kernel::{denominator_problem, line_col, KernelError, MAX_DENOMINATOR};
 use crate::lattice::{Discretisation, LatticeKind};
 use crate::poly::parse_rational;
 use rug::Rational;
@@ -70,7 +71,7 @@ pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError>
             )
         })?;
         let field = format!("discretisation[{i}].h_over_d");
-        let fix = "write h/d as an exact positive number: an integer (1) or a string (\"13/10\", \"1.3\"), at most 4";
+        let fix = "write h/d as an exact positive number: an integer (1) or a string (\"13/10\", \"1.3\"), at most 4, with a denominator of at most 1000";
         let h = match e.h_over_d.get_ref() {
             toml::Value::Integer(n) => Some(Rational::from(*n)),
             toml::Value::String(s) => parse_rational(s),
@@ -90,6 +91,14 @@ pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError>
                 Some(e.h_over_d.span()),
                 format!("h/d = {h} is out of range (0, {MAX_H_OVER_D}]"),
                 fix,
+            ));
+        }
+        if let Some(message) = denominator_problem(&h, "h/d") {
+            return Err(err(
+                field,
+                Some(e.h_over_d.span()),
+                message,
+                &format!("write h/d with a denominator of at most {MAX_DENOMINATOR}: three decimals at most (\"1.697\") or a fraction such as \"1697/1000\""),
             ));
         }
         let d = Discretisation { lattice, h };

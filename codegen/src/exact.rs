@@ -10,11 +10,12 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// The basis element `pi^pi_pow * sqrt(root)`, `root` square-free.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+/// The basis element `pi^pi_pow * sqrt(root)`, `root` square-free (of any
+/// size: a product of radicands never overflows).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Basis {
     pub pi_pow: i32,
-    pub root: u64,
+    pub root: Integer,
 }
 
 /// A rational combination of basis elements; zero coefficients never stored.
@@ -24,25 +25,45 @@ pub struct Exact {
 }
 
 /// Splits a positive integer into `(outside, inside)` with
-/// `n = outside^2 * inside` and `inside` square-free.
+/// `n = outside^2 * inside` and `inside` square-free. Trial division runs
+/// only while p^3 <= rest: what is left then has every prime factor above
+/// its cube root, so it is 1, a prime, a product of two distinct primes
+/// (square-free as it stands) or the square of a prime (a perfect square).
+/// The cost is at most n^(1/3) divisions, and stops as soon as the rest is
+/// a perfect square; the inputs' sizes are bounded where they are read
+/// (`kernel::MAX_DENOMINATOR`).
 fn square_free(n: &Integer) -> (Integer, Integer) {
     let mut rest = n.clone();
     let mut outside = Integer::from(1);
     let mut inside = Integer::from(1);
-    let mut p = Integer::from(2);
-    while Integer::from(&p * &p) <= rest {
+    let mut p = 2u32;
+    let mut changed = true;
+    loop {
+        if changed && rest.is_perfect_square() {
+            outside *= rest.sqrt();
+            return (outside, inside);
+        }
+        changed = false;
+        let cube = Integer::from(p).pow(3);
+        if cube > rest {
+            break;
+        }
         let mut count = 0u32;
-        while rest.is_divisible(&p) {
-            rest /= &p;
+        while rest.is_divisible_u(p) {
+            rest.div_exact_u_mut(p);
             count += 1;
         }
         if count > 0 {
-            outside *= Integer::from((&p).pow(count / 2));
+            changed = true;
+            outside *= Integer::from(p).pow(count / 2);
             if count % 2 == 1 {
-                inside *= &p;
+                inside *= p;
             }
         }
-        p += if p == 2 { 1 } else { 2 };
+        // the inputs are bounded far below (2^32)^3
+        p = p
+            .checked_add(if p == 2 { 1 } else { 2 })
+            .expect("square-free reduction of a number below 2^96");
     }
     inside *= rest;
     (outside, inside)
@@ -66,16 +87,25 @@ impl Exact {
     }
 
     /// `q * pi^pi_pow * sqrt(root)` (root need not be square-free).
-    pub fn monomial(q: Rational, pi_pow: i32, root: u64) -> Self {
+    pub fn monomial(q: Rational, pi_pow: i32, root: impl Into<Integer>) -> Self {
         let mut out = Self::zero();
         if q == 0 {
             return out;
         }
+        let root: Integer = root.into();
         assert!(root > 0, "sqrt of zero is not a basis element");
-        let (o, i) = square_free(&Integer::from(root));
+        let (o, root) = square_free(&root);
         let q = q * Rational::from(o);
-        let root = i.to_u64().expect("square-free part fits in u64");
         out.terms.insert(Basis { pi_pow, root }, q);
+        out
+    }
+
+    /// `q * pi^pi_pow * sqrt(root)` for a `root` known square-free.
+    fn monomial_square_free(q: Rational, pi_pow: i32, root: Integer) -> Self {
+        let mut out = Self::zero();
+        if q != 0 {
+            out.terms.insert(Basis { pi_pow, root }, q);
+        }
         out
     }
 
@@ -91,11 +121,16 @@ impl Exact {
         if *x == 0 {
             return Self::zero();
         }
+        // sqrt(a/b) = sqrt(a b)/b, with a and b reduced apart (each is
+        // smaller than a b): a = oa^2 ia, b = ob^2 ib, and ia ib = g^2 (ia ib/g^2)
+        // with g = gcd(ia, ib), the last factor square-free
         let (num, den) = x.clone().into_numer_denom();
-        let prod = num * &den;
-        let (o, i) = square_free(&prod);
-        let coef = Rational::from((o, den));
-        Self::monomial(coef, 0, i.to_u64().expect("radicand fits in u64"))
+        let (oa, ia) = square_free(&num);
+        let (ob, ib) = square_free(&den);
+        let g = Integer::from(ia.gcd_ref(&ib));
+        let root = Integer::from(&ia * &ib) / Integer::from(&g * &g);
+        let coef = Rational::from((oa * ob * g, den));
+        Self::monomial_square_free(coef, 0, root)
     }
 
     pub fn is_zero(&self) -> bool {
@@ -115,10 +150,10 @@ impl Exact {
     }
 
     /// The single term, when this is a monomial.
-    pub fn as_monomial(&self) -> Option<(Basis, &Rational)> {
+    pub fn as_monomial(&self) -> Option<(&Basis, &Rational)> {
         if self.terms.len() == 1 {
             let (b, q) = self.terms.iter().next().unwrap();
-            Some((*b, q))
+            Some((b, q))
         } else {
             None
         }
@@ -132,7 +167,7 @@ impl Exact {
         if q == 0 {
             return;
         }
-        let entry = self.terms.entry(b).or_default();
+        let entry = self.terms.entry(b.clone()).or_default();
         *entry += q;
         if *entry == 0 {
             self.terms.remove(&b);
@@ -143,10 +178,10 @@ impl Exact {
     pub fn div_monomial(&self, den: &Exact) -> Option<Exact> {
         let (b, q) = den.as_monomial()?;
         // 1/(q pi^e sqrt(s)) = sqrt(s) / (q s) * pi^-e
-        let inv = Exact::monomial(
-            Rational::from(1) / (q.clone() * Rational::from(b.root)),
+        let inv = Exact::monomial_square_free(
+            Rational::from(1) / (q.clone() * Rational::from(&b.root)),
             -b.pi_pow,
-            b.root,
+            b.root.clone(),
         );
         Some(self * &inv)
     }
@@ -168,7 +203,7 @@ impl Exact {
         for (b, q) in &self.terms {
             let mut t = Float::with_val(work, q);
             if b.root != 1 {
-                t *= Float::with_val(work, b.root).sqrt();
+                t *= Float::with_val(work, &b.root).sqrt();
             }
             if b.pi_pow != 0 {
                 t *= Float::with_val(work, pi.clone().pow(b.pi_pow));
@@ -201,7 +236,7 @@ impl Add<&Exact> for &Exact {
     fn add(self, rhs: &Exact) -> Exact {
         let mut out = self.clone();
         for (b, q) in &rhs.terms {
-            out.add_term(*b, q.clone());
+            out.add_term(b.clone(), q.clone());
         }
         out
     }
@@ -212,7 +247,7 @@ impl Sub<&Exact> for &Exact {
     fn sub(self, rhs: &Exact) -> Exact {
         let mut out = self.clone();
         for (b, q) in &rhs.terms {
-            out.add_term(*b, -q.clone());
+            out.add_term(b.clone(), -q.clone());
         }
         out
     }
@@ -225,13 +260,13 @@ impl Mul<&Exact> for &Exact {
         for (b1, q1) in &self.terms {
             for (b2, q2) in &rhs.terms {
                 // sqrt(s1) sqrt(s2) = g sqrt(s1 s2 / g^2), g = gcd(s1, s2)
-                let g = Integer::from(b1.root).gcd(&Integer::from(b2.root));
-                let inside = Integer::from(b1.root) * Integer::from(b2.root) / (&g * &g).complete();
+                let g = Integer::from(b1.root.gcd_ref(&b2.root));
+                let inside = Integer::from(&b1.root * &b2.root) / (&g * &g).complete();
                 let q = Rational::from(q1 * q2) * Rational::from(g);
                 out.add_term(
                     Basis {
                         pi_pow: b1.pi_pow + b2.pi_pow,
-                        root: inside.to_u64().expect("radicand fits in u64"),
+                        root: inside,
                     },
                     q,
                 );
@@ -296,7 +331,7 @@ impl fmt::Display for Exact {
         }
         // Order: rational part first, then increasing powers of 1/pi.
         let mut keys: Vec<&Basis> = self.terms.keys().collect();
-        keys.sort_by_key(|b| (-b.pi_pow, b.root));
+        keys.sort_by_key(|b| (-b.pi_pow, &b.root));
         for (i, b) in keys.iter().enumerate() {
             let q = &self.terms[b];
             let neg = *q < 0;
@@ -450,6 +485,51 @@ mod tests {
         assert_eq!(y.to_string(), "sqrt(3)/2");
         let z = &y * &y;
         assert_eq!(z.as_rational(), Some(Rational::from((3, 4))));
+    }
+
+    /// The cube-root bound loses nothing: every n up to 20000 against a
+    /// direct reduction, and large primes, their squares and products.
+    #[test]
+    fn square_free_parts_are_exact() {
+        let direct = |n: u64| {
+            let (mut outside, mut inside, mut rest, mut p) = (1u64, 1u64, n, 2u64);
+            while p * p <= rest {
+                while rest % (p * p) == 0 {
+                    rest /= p * p;
+                    outside *= p;
+                }
+                if rest % p == 0 {
+                    rest /= p;
+                    inside *= p;
+                }
+                p += 1;
+            }
+            (outside, inside * rest)
+        };
+        for n in 1..20000u64 {
+            let (o, i) = square_free(&Integer::from(n));
+            assert_eq!((o.to_u64().unwrap(), i.to_u64().unwrap()), direct(n), "{n}");
+        }
+        let (p, q) = (Integer::from(99990001u32), Integer::from(1099511627689u64));
+        for (n, o, i) in [
+            (
+                Integer::from(&p * &p) * 12u32,
+                Integer::from(&p * 2u32),
+                Integer::from(3),
+            ),
+            (
+                Integer::from(&p * &q),
+                Integer::from(1),
+                Integer::from(&p * &q),
+            ),
+            (Integer::from(&q * &q) * 7u32, q.clone(), Integer::from(7)),
+        ] {
+            assert_eq!(square_free(&n), (o, i), "{n}");
+        }
+        // a product of radicands beyond u64 stays exact
+        let big =
+            &Exact::sqrt_rational(&Rational::from(&q)) * &Exact::sqrt_rational(&Rational::from(&p));
+        assert_eq!(big.to_string(), format!("sqrt({})", Integer::from(&p * &q)));
     }
 
     #[test]

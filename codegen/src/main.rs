@@ -1,6 +1,6 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use shearsph_codegen::{analysis, discretisation, emit, kernel, show};
+use shearsph_codegen::{analysis, claims, discretisation, emit, kernel, show};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,8 +39,10 @@ enum Cmd {
         /// Significant digits of the decimals.
         #[arg(long, default_value_t = 30)]
         digits: usize,
-        /// N used for the checks of the paper's claims about layers n and the wall.
-        #[arg(long = "n-layers", default_value_t = 10)]
+        /// N used for the checks of the paper's claims about layers n and the
+        /// wall: from ceil(R h/d) + 1 (on the widest discretisation) to 100
+        /// (the checks' time grows as N^2).
+        #[arg(long = "n-layers", default_value_t = 10, allow_negative_numbers = true)]
         n_layers: i64,
     },
 }
@@ -109,6 +111,16 @@ fn run(cli: Cli) -> Result<()> {
             if !(1..=200).contains(&digits) {
                 bail!("--digits {digits}: choose from 1 to 200");
             }
+            if n_layers > claims::MAX_CHECK_LAYERS {
+                bail!(
+                    "--n-layers {n_layers}: at most {}. The claims search eps(t) at every layer \
+                     n = 1 .. N - R, and layer n's curve has a top frequency of about 2 n R h/d, \
+                     so the time grows as N^2 (N = 100: one to two minutes for a shipped kernel); choose N \
+                     from ceil(R h/d) + 1 up to {}",
+                    claims::MAX_CHECK_LAYERS,
+                    claims::MAX_CHECK_LAYERS
+                );
+            }
             let defs = kernel::load_dir(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
             let def = defs.iter().find(|k| k.name == name).with_context(|| {
                 format!(
@@ -120,14 +132,23 @@ fn run(cli: Cli) -> Result<()> {
                         .join(", ")
                 )
             })?;
-            let r_ceil = def.support.to_f64().ceil() as i64;
-            if n_layers < r_ceil + 1 {
+            let discs = discretisation::load(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
+            // the discretisation whose support reaches the most layers sets the least N
+            let (need, widest) = discs
+                .iter()
+                .map(|d| (claims::min_check_layers(def, d), d))
+                .max_by_key(|(n, _)| *n)
+                .expect("the paper's discretisation is always there");
+            if n_layers < need {
                 bail!(
-                    "--n-layers {n_layers}: needs at least R + 1 = {} layers",
-                    r_ceil + 1
+                    "--n-layers {n_layers}: needs at least {need} layers: on {} the support \
+                     R h/d = {} reaches {} layers, and the claims compare layers 1 .. N - {}",
+                    widest.label(),
+                    widest.support_d(&def.support),
+                    need - 1,
+                    need - 1
                 );
             }
-            let discs = discretisation::load(&cli.kernels).map_err(|e| anyhow::anyhow!("{e}"))?;
             let start = Instant::now();
             let a = analysis::analyse(
                 def,

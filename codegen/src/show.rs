@@ -237,11 +237,11 @@ fn disc_text(out: &mut String, a: &Analysis, da: &DiscAnalysis) {
         da.disc.label()
     );
     for m in &da.models {
-        model_text(out, a, m);
+        model_text(out, a, m, &cc.tau);
     }
 }
 
-fn model_text(out: &mut String, a: &Analysis, m: &ModelC0) {
+fn model_text(out: &mut String, a: &Analysis, m: &ModelC0, t_max: &Known) {
     let default = if m.model.name == crate::c0::DEFAULT_MODEL {
         " (default)"
     } else {
@@ -252,6 +252,13 @@ fn model_text(out: &mut String, a: &Analysis, m: &ModelC0) {
         "\n  model {}{}: {}",
         m.model.name, default, m.model.description
     );
+    if m.coefs.is_ok() && m.tau.value != t_max.value {
+        let _ = writeln!(
+            out,
+            "    derived at the mirror instant t = {} T, where its S is smaller (the larger c0)",
+            known_dec(a, &m.tau)
+        );
+    }
     match (&m.exact, &m.coefs) {
         (_, Err(fact)) => {
             let _ = writeln!(out, "    {fact}");
@@ -328,6 +335,7 @@ fn disc_json(a: &Analysis, da: &DiscAnalysis) -> Value {
                 "S": dec_float(a, &c.s), "P": dec_float(a, &c.p), "Q": dec_float(a, &c.q),
                 "a": dec_float(a, &c.a), "b": dec_float(a, &c.b), "c": dec_float(a, &c.c),
                 "exact": exact,
+                "time_over_T": known_dec(a, &m.tau),
                 "description": m.model.description,
             }),
         );
@@ -360,6 +368,11 @@ fn disc_json(a: &Analysis, da: &DiscAnalysis) -> Value {
                 "symmetric": cc.symmetric.map(|c| c.label()),
                 "eps0": known_dec(a, &cc.eps0),
                 "neighbours": cc.neighbours,
+                "mirror": cc.mirror.as_ref().map(|m| json!({
+                    "time_over_T": known_dec(a, &m.tau),
+                    "av_at_t": dec_float(a, &m.av_t),
+                    "av_at_mirror": dec_float(a, &m.av_mirror),
+                })),
                 "label": cc.label,
                 "discretisation": da.disc.label(),
             },

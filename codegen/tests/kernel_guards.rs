@@ -305,7 +305,7 @@ fn shipped_kernels_are_nonnegative_and_smooth_at_the_origin() {
 }
 
 /// `generate` into a folder too small for its files fails, leaves no
-/// `*.rs.tmp`, and changes nothing that was there. Needs a tiny tmpfs
+/// temporary file (`.NAME.PID-N.tmp`), and changes nothing that was there. Needs a tiny tmpfs
 /// (root in a container that may mount); says so and returns otherwise.
 #[test]
 fn generate_on_a_full_disk_leaves_no_temporary_files() {

@@ -23,9 +23,14 @@ expr = "(1 - 4*q^2/9)^3"
 fn unshipped_kernel_end_to_end() {
     let def = parse_kernel(Path::new("poly6.toml"), POLY6).expect("a valid kernel");
     assert_eq!(def.support.to_string(), "3/2");
+    // the paper's lattice and the same at h = 1.3 d
+    let tri13 = shearsph_codegen::lattice::Discretisation {
+        lattice: shearsph_codegen::lattice::LatticeKind::Triangular,
+        h: shearsph_codegen::rug::Rational::from((13, 10)),
+    };
     let a = analyse(
         &def,
-        &[],
+        &[tri13],
         Options {
             digits: 20,
             check_layers: 6,
@@ -48,8 +53,18 @@ fn unshipped_kernel_end_to_end() {
     // the extremes are found, and eps(0.5 T) is never above the true maximum
     assert!(a.paper().eps.max.value >= a.paper().eps.half_period.value);
     assert!(a.paper().eps.min.value <= a.paper().eps.t0.value);
-    // every model has P = S^2 and finite coefficients
-    for m in a.paper().exact_models() {
+    // on the paper's lattice it never compacts (max eps < 0 at t = 0): every
+    // derived model states so; at h = 1.3 d it compacts, and every model has
+    // P = S^2 and finite coefficients
+    assert!(a.paper().eps.max.value < 0);
+    for m in &a.paper().models {
+        let fact = m.coefs.as_ref().expect_err("no c0");
+        assert!(fact.contains("the lattice never compacts"), "{fact}");
+    }
+    let at13 = &a.discs[1];
+    assert!(at13.eps.max.value > 0);
+    assert_eq!(at13.exact_models().len(), 4);
+    for m in at13.exact_models() {
         assert_eq!(m.p, m.s.square());
         assert!(m.s.to_f64().is_finite() && m.q.to_f64().is_finite());
     }
@@ -69,7 +84,10 @@ fn unshipped_kernel_end_to_end() {
     let json = shearsph_codegen::show::json(&a);
     assert_eq!(json["kernel"], "poly6");
     assert!(json["eps"]["t_max"].is_string());
-    assert!(json["c0"]["models"]["field-av"]["S"].is_string());
+    assert!(json["c0"]["no_c0"]["field-av"]
+        .as_str()
+        .is_some_and(|f| f.starts_with("no c0: the lattice never compacts")));
+    assert!(json["discretisations"][1]["c0"]["models"]["field-av"]["S"].is_string());
 }
 
 fn err(src: &str) -> KernelError {

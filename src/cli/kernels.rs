@@ -42,6 +42,7 @@ fn models_json(models: &[C0Model]) -> serde_json::Map<String, Value> {
                 m.name.to_string(),
                 json!({"S": m.s.value, "P": m.p.value, "Q": m.q.value,
                        "a": m.a.value, "b": m.b.value, "c": m.c.value,
+                       "t": derived(&m.t),
                        "positive_root": has_positive_root(m),
                        "description": m.description}),
             )
@@ -143,8 +144,10 @@ pub fn main(args: KernelsArgs) -> Result<ExitCode> {
     );
     for k in KERNELS {
         for d in k.discretisations {
-            let t_c0 = d.c0_configuration.t.value;
             for m in d.c0_models {
+                // where this model was derived (an -av model may take the
+                // mirror instant T - t of a maximum off the symmetric ones)
+                let t_c0 = m.t.value;
                 let default = m.name == k.c0_default;
                 if !default && !args.models {
                     continue;

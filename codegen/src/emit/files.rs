@@ -2,7 +2,9 @@
 //! touching a file the generator did not write.
 
 use super::COMMAND;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The first line of every file the generator writes; a file in the output
 /// folder is the generator's own (and may be replaced or removed) only if it
@@ -109,14 +111,94 @@ pub fn ensure(dir: &Path, files: &[(PathBuf, String)], check: bool) -> std::io::
     Ok(changes)
 }
 
+/// A per-process serial: with the process id it makes every temporary
+/// name this process tries a new one.
+fn serial() -> u64 {
+    static SERIAL: AtomicU64 = AtomicU64::new(0);
+    SERIAL.fetch_add(1, Ordering::Relaxed)
+}
+
+/// How many fresh names [`write_atomically`] tries before it gives up (each
+/// taken name is somebody else's file, left alone).
+const TEMP_ATTEMPTS: u64 = 64;
+
+/// The temporary name for `path` with serial `n`: hidden, beside it (same
+/// folder, so the rename cannot cross file systems), `.NAME.PID-N.tmp`.
+fn temp_path(path: &Path, n: u64) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}-{n}.tmp", std::process::id()))
+}
+
 /// Writes `contents` to a temporary file beside `path` and renames it over
-/// `path`; on any failure (a full disk) the temporary file is removed, so
-/// nothing but the old file remains.
+/// `path`. The temporary file is created fresh (`create_new`: O_CREAT |
+/// O_EXCL), so an existing file of that name is never opened, truncated or
+/// removed, and a symbolic link of that name is never followed (the kernel
+/// refuses to create through one): a name that is taken is skipped for the
+/// next. On any failure after creating it (a full disk) the temporary file,
+/// ours, is removed, so nothing but the old file remains.
 fn write_atomically(path: &Path, contents: &str) -> std::io::Result<()> {
-    let tmp = path.with_extension("rs.tmp");
-    let result = std::fs::write(&tmp, contents).and_then(|()| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    for _ in 0..TEMP_ATTEMPTS {
+        let tmp = temp_path(path, serial());
+        let mut file = match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        };
+        let result = file
+            .write_all(contents.as_bytes())
+            .and_then(|()| file.sync_all())
+            .and_then(|()| std::fs::rename(&tmp, path));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        return result;
     }
-    result
+    Err(std::io::Error::new(
+        std::io::ErrorKind::AlreadyExists,
+        format!(
+            "{} temporary names beside {} are all taken (files named like {}); \
+             none was touched: move them away and run `{COMMAND}` again",
+            TEMP_ATTEMPTS,
+            path.display(),
+            temp_path(path, 0).display()
+        ),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Files and links at the names the writer will try next are skipped
+    /// and left exactly as they were; a link's target is never written.
+    #[test]
+    fn taken_temporary_names_are_skipped_never_opened_or_followed() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).unwrap();
+        let precious = dir.path().join("precious.txt");
+        std::fs::write(&precious, "precious").unwrap();
+        let target = out.join("k.rs");
+        // the next names this process will try: a file, a link to a file
+        // outside the folder, a dangling link
+        let next = serial() + 1;
+        let names: Vec<PathBuf> = (next..next + 3).map(|n| temp_path(&target, n)).collect();
+        std::fs::write(&names[0], "the user's").unwrap();
+        std::os::unix::fs::symlink(&precious, &names[1]).unwrap();
+        std::os::unix::fs::symlink(dir.path().join("nowhere"), &names[2]).unwrap();
+        write_atomically(&target, "generated").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "generated");
+        assert_eq!(std::fs::read_to_string(&names[0]).unwrap(), "the user's");
+        assert_eq!(std::fs::read_to_string(&precious).unwrap(), "precious");
+        assert_eq!(std::fs::read_link(&names[1]).unwrap(), precious);
+        assert!(std::fs::symlink_metadata(&names[2]).unwrap().is_symlink());
+        assert!(!dir.path().join("nowhere").exists());
+    }
 }

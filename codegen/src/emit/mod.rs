@@ -103,7 +103,8 @@ fn c0_tokens(da: &DiscAnalysis, digits: usize) -> (Vec<TokenStream>, Vec<TokenSt
             None => [&coefs.a, &coefs.b, &coefs.c, &coefs.s, &coefs.p, &coefs.q]
                 .map(|x| derived_float(x, digits)),
         };
-        models.push(quote!(C0Model { name: #mname, description: #desc, a: #av, b: #bv, c: #cv, s: #sv, p: #pv, q: #qv }));
+        let t = derived(&m.tau);
+        models.push(quote!(C0Model { name: #mname, description: #desc, t: #t, a: #av, b: #bv, c: #cv, s: #sv, p: #pv, q: #qv }));
     }
     (models, none)
 }

@@ -33,6 +33,28 @@ use std::path::PathBuf;
 /// searches grow with R^2 and R^3; beyond this they stop being reasonable.
 pub const MAX_SUPPORT: i64 = 12;
 
+/// The largest denominator of an exact length of the lattice geometry: h/d
+/// (`discretisations.toml`), the support and every piece's end (`support`,
+/// `w[i].to`, `dw[i].to`). The derivation takes exact square roots of the
+/// lattice distances in h and of a piece's end squared minus a row's
+/// height, reduced to a square-free radicand by factoring; those radicands
+/// grow as the fourth power of the denominators (up to about 1e16 here), so
+/// a larger one would make `generate` run without end. Three decimals
+/// ("1.697") fit.
+pub const MAX_DENOMINATOR: u32 = 1000;
+
+/// Why an exact length is refused for its denominator, if it is.
+pub fn denominator_problem(q: &Rational, what: &str) -> Option<String> {
+    (*q.denom() > MAX_DENOMINATOR).then(|| {
+        format!(
+            "{what} = {q} has the denominator {}, above {MAX_DENOMINATOR}: the exact derivation \
+             factors square roots whose radicands grow as the fourth power of the denominators \
+             of h/d, the support and the piece ends, and would not finish",
+            q.denom()
+        )
+    })
+}
+
 /// A definition that cannot be used, with where and how to fix it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct KernelError {

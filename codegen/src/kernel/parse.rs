@@ -2,7 +2,10 @@
 //! naming the file, field and fix; a folder of them.
 
 use super::names::name_problem;
-use super::{normalisation, KernelDef, KernelError, PaperValues, Piece, Radial, MAX_SUPPORT};
+use super::{
+    denominator_problem, normalisation, KernelDef, KernelError, PaperValues, Piece, Radial,
+    MAX_DENOMINATOR, MAX_SUPPORT,
+};
 use crate::exact::Exact;
 use crate::poly::{parse_poly, parse_rational, Poly};
 use rug::Rational;
@@ -102,18 +105,35 @@ impl Ctx<'_> {
                 "write an exact number: an integer (2) or a string (\"3/2\", \"1.5\")",
             )
         };
-        match v.get_ref() {
-            toml::Value::Integer(i) => Ok(Rational::from(*i)),
+        let q = match v.get_ref() {
+            toml::Value::Integer(i) => Rational::from(*i),
             toml::Value::String(s) => {
-                parse_rational(s).ok_or_else(|| bad(format!("`{s}` is not an exact number")))
+                parse_rational(s).ok_or_else(|| bad(format!("`{s}` is not an exact number")))?
             }
-            toml::Value::Float(x) => Err(bad(format!(
-                "{x} is a floating-point number; supports and piece ends must be exact"
-            ))),
-            other => Err(bad(format!(
-                "expected a number, found {}",
-                other.type_str()
-            ))),
+            toml::Value::Float(x) => {
+                return Err(bad(format!(
+                    "{x} is a floating-point number; supports and piece ends must be exact"
+                )))
+            }
+            other => {
+                return Err(bad(format!(
+                    "expected a number, found {}",
+                    other.type_str()
+                )))
+            }
+        };
+        // the same bound as h/d's in discretisations.toml: these are lengths
+        // of the lattice geometry too
+        match denominator_problem(&q, field) {
+            Some(message) => Err(self.err(
+                field,
+                Some(v.span()),
+                message,
+                &format!(
+                    "write it with a denominator of at most {MAX_DENOMINATOR} (e.g. \"3/2\", \"1.25\"; three decimals at most)"
+                ),
+            )),
+            None => Ok(q),
         }
     }
 
