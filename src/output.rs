@@ -117,7 +117,8 @@ pub struct Summary {
     /// reach the solver.
     pub outcome: String,
     /// `ok`, `inaccurate`, `over-compressed` or `failed`, by the scene's
-    /// bounds below: one class for `run`, the sweep and the report.
+    /// bounds below: one class for `run`, the sweep and the report;
+    /// `interrupted` for a run stopped before t_end (no verdict).
     pub class: Class,
     /// Inaccurate above this L_inf error (relative to U) over the outputs.
     #[serde(with = "nan_null")]
@@ -326,8 +327,9 @@ pub fn profile_csv(s: &Sample) -> String {
 }
 
 pub fn timeseries_csv(samples: &[Sample]) -> String {
-    let mut out =
-        String::from("t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n");
+    let mut out = String::from(
+        "t,step,dt,linf_rel_err,l2_rel_err,max_eps,mean_eps,rms_v,kinetic_energy,eps_p99,dy_rms\n",
+    );
     for s in samples {
         let _ = writeln!(
             out,

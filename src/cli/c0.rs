@@ -4,7 +4,7 @@
 
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use clap::Args;
 
 use std::io::IsTerminal;
@@ -14,6 +14,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::SceneArgs;
 use crate::answer::{answer, resolve_empirical, Search};
 use crate::config::{C0Spec, Scene};
+use crate::format::fmt_value;
 use crate::problem::c0::table;
 use crate::solver::Class;
 
@@ -66,7 +67,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     if args.empirical || asks_empirical {
         return empirical(&args);
     }
-    let t = table(&args.scene.load()?)?;
+    let t = table(&args.scene.load()?).map_err(|e| args.scene.label(e))?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&t)?);
         return Ok(ExitCode::SUCCESS);
@@ -138,6 +139,16 @@ fn runs_bar(quiet: bool) -> ProgressBar {
 /// returned as it is.
 pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Scene> {
     let search = Search::default();
+    if matches!(
+        scene.c0,
+        C0Spec::Rule {
+            rule: crate::config::C0Rule::Empirical,
+            ..
+        }
+    ) {
+        crate::problem::c0::table(&scene)?;
+        check_search_top(&scene, &search, &|_| None)?;
+    }
     let bar = runs_bar(quiet);
     bar.set_message("c0 = empirical: the bisection first");
     let Some((s, b)) = resolve_empirical(&scene, &search, &bar)? else {
@@ -169,10 +180,62 @@ pub fn empirical_scene(scene: Scene, quiet: bool, to_stdout: bool) -> Result<Sce
     Ok(s)
 }
 
+/// The search's extreme runs valid before any run: its first probe, c0 =
+/// `hi_over_u` U (the top of the bracket), and the largest c0 it may
+/// recommend and then run, `margin` times that. An error names the
+/// search's own field as `name` gives it (`--margin`, a law config's
+/// `hi_over_u`; `None`: a field the command does not take), not the c0
+/// the scene would have had.
+pub(crate) fn check_search_top(
+    scene: &Scene,
+    search: &Search,
+    name: &dyn Fn(&str) -> Option<String>,
+) -> Result<()> {
+    use crate::problem::Problem;
+    let info = scene.kernel_info()?;
+    let u = crate::problem::channel::Channel::resolve(scene, info)?
+        .flow
+        .u;
+    let at = |c0: f64| {
+        let s = Scene {
+            c0: C0Spec::Value(c0),
+            ..scene.clone()
+        };
+        Problem::resolve(&s, info).and_then(|p| p.check_duration())
+    };
+    let top = search.hi_over_u * u;
+    if let Err(e) = at(top) {
+        let who = name("hi_over_u").map_or_else(
+            || "the search's first probe".to_string(),
+            |n| {
+                format!(
+                    "{n} = {}: the search's first probe",
+                    fmt_value(search.hi_over_u)
+                )
+            },
+        );
+        bail!(
+            "{who}, c0 = {} U, would not run: {e}",
+            fmt_value(search.hi_over_u)
+        );
+    }
+    if let Err(e) = at(top * search.margin) {
+        let who = name("margin").unwrap_or_else(|| "the margin".into());
+        bail!(
+            "{who} = {}: the recommended c0 may be as large as margin x {} U = {} U, and it is run \
+             (on every start) once found, but a run at it would not: {e}",
+            fmt_value(search.margin),
+            fmt_value(search.hi_over_u),
+            fmt_value(search.margin * search.hi_over_u)
+        );
+    }
+    Ok(())
+}
+
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Everything but c0 must be valid before the first run.
-    table(&scene)?;
+    table(&scene).map_err(|e| args.scene.label(e))?;
     let search = Search {
         amplitude: args.amplitude,
         seeds: args.seeds,
@@ -181,6 +244,12 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
         full: args.full,
         ..Search::default()
     };
+    // The engine's own ranges first (Search::check), then the runs at the
+    // top of the search.
+    search.check(|field| format!("--{}", field.replace('_', "-")))?;
+    check_search_top(&scene, &search, &|field| {
+        (field != "hi_over_u").then(|| format!("--{}", field.replace('_', "-")))
+    })?;
     let bar = runs_bar(args.quiet);
     let a = answer(&scene, &search, &bar)?;
     bar.finish_and_clear();

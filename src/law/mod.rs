@@ -60,6 +60,24 @@ impl Config {
                 bail!("law config {origin}: `{field}` is empty; give at least one value");
             }
         }
+        // A value twice would run (and fit) one point twice; every count
+        // bounded (the search's own by Search::check below).
+        let field = |f: &str| format!("law config {origin}: `{f}`");
+        use crate::config::bounds::{distinct, POINTS};
+        distinct(&field("kernels"), &c.kernels)?;
+        distinct(&field("n"), &c.n)?;
+        distinct(&field("re"), &c.re)?;
+        distinct(&field("alpha"), &c.alpha)?;
+        if c.n.contains(&0) {
+            bail!("{}: 0 is not a number of layers; give N >= 1", field("n"));
+        }
+        let points = [c.kernels.len(), c.n.len(), c.re.len(), c.alpha.len()]
+            .into_iter()
+            .fold(1u64, |a, b| a.saturating_mul(b as u64));
+        POINTS.check(
+            &format!("law config {origin}: points (kernels x n x re x alpha)"),
+            points,
+        )?;
         for key in [
             "kernel",
             "n_layers",
@@ -154,6 +172,16 @@ pub struct Point {
 /// Run every point of `config` (in parallel; each run on one thread),
 /// ticking `bar` per point.
 pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
+    run_until(config, bar, &std::sync::atomic::AtomicBool::new(false))
+}
+
+/// [`run`], starting no point once `stop` is set (a signal): the points
+/// finished by then, in order (those running finish first).
+pub fn run_until(
+    config: &Config,
+    bar: &ProgressBar,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<Vec<Point>> {
     let search = config.search();
     let keys = config.points();
     // every scene valid before the first run
@@ -168,11 +196,19 @@ pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
         })
         .collect::<Result<Vec<Scene>>>()?;
     bar.set_length(keys.len() as u64);
-    let points: Vec<Result<Point>> = keys
+    let points: Vec<Result<Option<Point>>> = keys
         .par_iter()
         .zip(scenes.par_iter())
         .map(|((kernel, n, re, alpha), scene)| {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                return Ok(None);
+            }
             let b = bisect(scene, &search, &ProgressBar::hidden(), &mut HashMap::new())?;
+            // Stopped while it ran: its runs may have been cut short, so
+            // its bisection is not kept.
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                return Ok(None);
+            }
             let info = scene.kernel_info()?;
             let channel = Channel::resolve(scene, info)?;
             let u = channel.flow.u;
@@ -183,7 +219,7 @@ pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
                 rules.push((name, c0 / u));
             }
             bar.inc(1);
-            Ok(Point {
+            Ok(Some(Point {
                 kernel: kernel.clone(),
                 n: *n,
                 re: *re,
@@ -196,10 +232,15 @@ pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
                 rules,
                 trials: b.trials.len(),
                 run_s: b.trials.iter().map(|t| t.wall_s).sum(),
-            })
+            }))
         })
         .collect();
-    points.into_iter().collect()
+    Ok(points
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect())
 }
 
 /// Every point as CSV: its c0_min, bracket, regime and every rule's c0 / U.

@@ -373,7 +373,11 @@ fn find_one(
 /// A row's class with its reason or figures, in a few words.
 pub fn reason(r: &Row) -> String {
     match r.class {
-        Class::Failed => format!("failed: {}", r.failure_reason.clone().unwrap_or_default()),
+        Class::Failed | Class::Interrupted => format!(
+            "{}: {}",
+            r.class,
+            r.failure_reason.clone().unwrap_or_default()
+        ),
         Class::OverCompressed => format!(
             "over-compressed: max eps {} above {}",
             fmt(r.max_eps),

@@ -270,9 +270,9 @@ impl RunResult {
         }
     }
 
-    /// The run's class under `rules`: `failed` when the run failed (or was
-    /// stopped), else by its worst L_inf error and largest compaction, see
-    /// [`classify`].
+    /// The run's class under `rules`: `failed` when the run failed,
+    /// `interrupted` when it was stopped before t_end (no verdict), else by
+    /// its worst L_inf error and largest compaction, see [`classify`].
     pub fn class(&self, rules: &ClassRules) -> Class {
         match self.outcome {
             Outcome::Ok => classify(
@@ -281,7 +281,8 @@ impl RunResult {
                 rules.linf_bound,
                 self.eps_bound(rules),
             ),
-            Outcome::Failed { .. } | Outcome::Interrupted { .. } => Class::Failed,
+            Outcome::Failed { .. } => Class::Failed,
+            Outcome::Interrupted { .. } => Class::Interrupted,
         }
     }
 
@@ -313,9 +314,12 @@ pub enum Class {
     Inaccurate,
     OverCompressed,
     Failed,
+    /// Stopped before t_end (a signal): no verdict. Never a stored row.
+    Interrupted,
 }
 
 impl Class {
+    /// The classes of a run that ended (every verdict; not `Interrupted`).
     pub const ALL: [Class; 4] = [
         Class::Ok,
         Class::Inaccurate,
@@ -328,11 +332,15 @@ impl Class {
             Class::Inaccurate => "inaccurate",
             Class::OverCompressed => "over-compressed",
             Class::Failed => "failed",
+            Class::Interrupted => "interrupted",
         }
     }
     /// Parse a class name as written in rows.
     pub fn parse(s: &str) -> Option<Class> {
-        Class::ALL.into_iter().find(|c| c.name() == s)
+        Class::ALL
+            .into_iter()
+            .chain([Class::Interrupted])
+            .find(|c| c.name() == s)
     }
 }
 
