@@ -34,7 +34,25 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let result = match Cli::parse().command {
+    // Before any work: a signal during parsing or checking ends the
+    // command with the one status every command gives (130).
+    if let Err(e) = cli::interrupt::install() {
+        return cli::report(Err(e));
+    }
+    // Bad flags are bad input like any other: exit 1 (clap's own is 2);
+    // --help and --version print and exit 0.
+    let command = match Cli::try_parse() {
+        Ok(c) => c.command,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    let result = match command {
         Command::Kernels(args) => cli::kernels::main(args),
         Command::Run(args) => cli::run::main(args),
         Command::C0(args) => cli::c0::main(args),

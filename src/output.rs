@@ -155,7 +155,8 @@ pub struct Summary {
     /// reach the solver.
     pub outcome: String,
     /// `ok`, `inaccurate`, `over-compressed` or `failed`, by the scene's
-    /// bounds below: one class for `run`, the sweep and the report.
+    /// bounds below: one class for `run`, the sweep and the report;
+    /// `interrupted` for a run stopped before t_end (no verdict).
     pub class: Class,
     /// Inaccurate above this L_inf error (relative to U) over the outputs.
     #[serde(with = "nan_null")]

@@ -288,14 +288,14 @@ fn unknown_scene_file_key_is_refused_naming_file_and_key() {
 #[test]
 fn other_bad_flags_are_refused() {
     assert_refused(&["--initial", "moving"], &["initial", "rest"]);
-    // Flags clap itself refuses.
+    // Flags clap itself refuses: bad input, exit 1 like every other.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
     let o = quick_run(&out, &["--re", "10", "--p", "0.1"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
     let o = quick_run(&out, &["--bogus"]);
-    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("--bogus"), "{}", stderr(&o));
 }
 
@@ -368,7 +368,7 @@ fn failed_run_writes_outputs_and_exits_3() {
     let err = stderr(&o);
     for part in [
         format!(
-            "outcome: failed at t = {:.6}",
+            "class: failed at t = {:.6}",
             s["failure_t"].as_f64().unwrap()
         ),
         format!("step {}", s["failure_step"]),
@@ -615,9 +615,9 @@ fn an_ungenerated_discretisation_names_the_line_to_add() {
         }
         assert!(!out.exists(), "{cmd} wrote before refusing");
     }
-    // Not a number nor a rational.
+    // Not a number nor a rational: bad input like any other, exit 1.
     let o = shearsph(&["c0", "--h-over-d", "13/x"]);
-    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(o.status.code(), Some(1));
     assert!(
         stderr(&o).contains("neither a number nor a rational"),
         "{}",

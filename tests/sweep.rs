@@ -158,7 +158,29 @@ fn shards_merged_give_the_rows_of_one_full_run() {
     }
     assert_eq!(counted, full.rows.len());
     let out = tmp.path().join("merged");
-    let (_, merged) = store::merge(&shards, &out, false).unwrap();
+    // An incomplete set does not merge unless asked: the error names the
+    // shard not given, and nothing is written.
+    let part = tmp.path().join("part");
+    let err = format!(
+        "{:#}",
+        store::merge(&shards[..2], &part, false, false).unwrap_err()
+    );
+    assert!(
+        err.contains("no folder given for shard 2/3") && err.contains("--partial"),
+        "{err}"
+    );
+    assert!(!part.exists(), "a refused merge writes nothing");
+    let (_, some) = store::merge(&shards[..2], &part, false, true).unwrap();
+    assert!(!some.is_empty() && some.len() < full.rows.len());
+    // A merge respects the output folder's sweep lock, --force or not.
+    let held = store::lock(&part).unwrap();
+    let err = format!(
+        "{:#}",
+        store::merge(&shards, &part, true, false).unwrap_err()
+    );
+    assert!(err.contains("in use by another sweep"), "{err}");
+    drop(held);
+    let (_, merged) = store::merge(&shards, &out, false, false).unwrap();
     assert_same_rows(&merged, &full.rows);
     // The merged folder is a sweep folder: resuming it runs nothing.
     let resumed = run(&out, None, None);
@@ -172,6 +194,7 @@ fn shards_merged_give_the_rows_of_one_full_run() {
         &[shards[0].clone(), stranger],
         &tmp.path().join("bad"),
         false,
+        true,
     )
     .unwrap_err()
     .to_string();

@@ -9,6 +9,7 @@
 # and a release build (cargo build --release).
 #
 #   bench/slurm/run_array.sh            # keeps its folder, prints its path
+#   FAIL_TASK=1 bench/slurm/run_array.sh   # task 1 killed once, named, resubmitted alone
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 REPO=$(cd "$HERE/../.." && pwd)
@@ -84,20 +85,83 @@ echo "+ sinfo"; sinfo
 
 # --- the array and the dependent merge
 cd "$W"
+# FAIL_TASK=K: task K's first attempt is killed (SIGKILL, as a node failure
+# or the OOM killer would) once its folder records its shard; the script
+# then names it, cancels the merge waiting on it, and resubmits that task
+# alone (--array=K), which keeps its shard (shard.toml) and resumes.
+REAL=$SHEARSPH
+if [ -n "${FAIL_TASK:-}" ]; then
+    cat > "$W/flaky-shearsph" <<FLAKY
+#!/bin/bash
+if [ "\${SLURM_ARRAY_TASK_ID:-}" = "$FAIL_TASK" ] && [ ! -e "$W/failed-once" ]; then
+    touch "$W/failed-once"
+    "$REAL" "\$@" & pid=\$!
+    for _ in \$(seq 300); do [ -e "$OUT/s$FAIL_TASK/shard.toml" ] && break; sleep 0.1; done
+    kill -9 \$pid; echo "injected failure: task $FAIL_TASK killed" >&2; exit 137
+fi
+exec "$REAL" "\$@"
+FLAKY
+    chmod +x "$W/flaky-shearsph"
+    export SHEARSPH=$W/flaky-shearsph
+fi
 echo "+ sbatch --array=0-$((TASKS - 1)) $HERE/sweep_array.sbatch"
 ARRAY=$(sbatch --parsable --array=0-$((TASKS - 1)) "$HERE/sweep_array.sbatch")
 echo "Submitted batch job $ARRAY"
 echo "+ sbatch --dependency=afterok:$ARRAY $HERE/merge.sbatch"
 MERGE=$(sbatch --parsable --dependency=afterok:"$ARRAY" "$HERE/merge.sbatch")
 echo "Submitted batch job $MERGE"
-start=$(date +%s)
-echo "+ squeue (every 2 s until the queue is empty)"
-while [ -n "$(squeue -h)" ]; do
-    echo "--- $(($(date +%s) - start)) s"
-    squeue -o "%.10i %.16j %.8T %.10M %.6D %R"
-    sleep 2
-    [ $(($(date +%s) - start)) -lt 900 ] || { echo "timed out" >&2; exit 1; }
-done
+
+# The array tasks of job $1 that ended other than COMPLETED, one a line
+# ("1_2 FAILED 1:0"), from the job records.
+failed_tasks() {
+    [ -f "$W/log/jobcomp.log" ] || return 0
+    python3 - "$W/log/jobcomp.log" "$1" <<'PY'
+import sys
+for line in open(sys.argv[1]):
+    f = dict(kv.split("=", 1) for kv in line.split() if "=" in kv)
+    if f.get("ArrayJobId") == sys.argv[2] and f.get("ArrayTaskId") and f.get("JobState") != "COMPLETED":
+        print(f"{f['ArrayJobId']}_{f['ArrayTaskId']} {f['JobState']} {f.get('ExitCode', '?')}")
+PY
+}
+
+# Wait for the queue to empty, printing it every 2 s; a failed array task
+# of job $1 is named at once (with its output) and the merge $2 that waits
+# on it (afterok: it never runs) is cancelled. Status 1 then.
+wait_queue() {
+    local array=$1 merge=$2 start bad
+    start=$(date +%s)
+    echo "+ squeue (every 2 s until the queue is empty)"
+    while [ -n "$(squeue -h)" ]; do
+        echo "--- $(($(date +%s) - start)) s"
+        squeue -o "%.10i %.16j %.8T %.10M %.6D %R"
+        bad=$(failed_tasks "$array")
+        if [ -n "$bad" ]; then
+            echo "array task(s) of job $array ended badly (task, state, exit):"
+            echo "$bad" | sed 's/^/  /'
+            for t in $(echo "$bad" | cut -d' ' -f1); do
+                echo "+ shearsph-sweep-$t.out"; cat "shearsph-sweep-$t.out" 2>/dev/null || true
+            done
+            echo "+ scancel $merge (it waits on job $array with afterok: it would never run)"
+            scancel "$merge"
+            while [ -n "$(squeue -h -j "$merge" 2>/dev/null)" ]; do sleep 1; done
+            return 1
+        fi
+        sleep 2
+        [ $(($(date +%s) - start)) -lt 900 ] || { echo "timed out after 900 s" >&2; exit 1; }
+    done
+}
+
+if ! wait_queue "$ARRAY" "$MERGE"; then
+    [ -n "${FAIL_TASK:-}" ] || exit 1
+    ids=$(failed_tasks "$ARRAY" | cut -d' ' -f1 | cut -d_ -f2 | paste -sd,)
+    echo "+ sbatch --array=$ids $HERE/sweep_array.sbatch (the failed task(s) alone: each keeps its shard)"
+    ARRAY=$(sbatch --parsable --array="$ids" "$HERE/sweep_array.sbatch")
+    echo "Submitted batch job $ARRAY"
+    echo "+ sbatch --dependency=afterok:$ARRAY $HERE/merge.sbatch"
+    MERGE=$(sbatch --parsable --dependency=afterok:"$ARRAY" "$HERE/merge.sbatch")
+    echo "Submitted batch job $MERGE"
+    wait_queue "$ARRAY" "$MERGE" || exit 1
+fi
 echo "+ the jobs as Slurm recorded them (jobcomp/filetxt; sacct needs slurmdbd, not set up here)"
 python3 - "$W/log/jobcomp.log" <<'PY'
 import sys
@@ -109,17 +173,21 @@ for line in open(sys.argv[1]):
 PY
 echo "+ scontrol show job $ARRAY (array summary)"
 scontrol show job "$ARRAY" 2>/dev/null | grep -E "JobId|JobState" || echo "(purged from slurmctld's memory)"
-for f in shearsph-sweep-"$ARRAY"_*.out shearsph-merge-"$MERGE".out; do
+for f in shearsph-sweep-*.out shearsph-merge-"$MERGE".out; do
     echo "+ $f"; cat "$f"
 done
+[ -s "$OUT/merged/results.jsonl" ] || { echo "the merge job wrote no rows" >&2; exit 1; }
 
 # --- the same grid on this machine alone
 echo "+ shearsph sweep --sweep grid.toml --out single (one machine)"
-"$SHEARSPH" sweep --sweep "$GRID" --out "$W/single" --jobs 1 --quiet --no-charts
+"$REAL" sweep --sweep "$GRID" --out "$W/single" --jobs 1 --quiet --no-charts
 
+# The wall-clock fields differ between any two runs of a point: left out,
+# the same list as the rows' own (Row::TIMING_FIELDS in src/sweep/row.rs).
 echo "+ compare merged/results.jsonl with single/results.jsonl"
 python3 - "$OUT/merged/results.jsonl" "$W/single/results.jsonl" <<'PY'
 import json, sys
+TIMING = {"wall_s", "particle_steps_per_s"}
 def rows(p):
     return {r["index"]: r for r in map(json.loads, open(p))}
 a, b = rows(sys.argv[1]), rows(sys.argv[2])
@@ -130,8 +198,8 @@ for i in sorted(set(a) & set(b)):
         if a[i].get(k) != b[i].get(k):
             differ.setdefault(k, []).append(i)
 for k, idx in differ.items():
-    print(f"  field {k!r} differs in {len(idx)} of {len(a)} rows")
-other = set(differ) - {"wall_s"}
-print("identical except wall times" if not other and sorted(a) == sorted(b) else f"DIFFERENT: {sorted(other)}")
+    print(f"  field {k!r} differs in {len(idx)} of {len(a)} rows{' (wall clock)' if k in TIMING else ''}")
+other = set(differ) - TIMING
+print("identical except wall-clock fields" if not other and sorted(a) == sorted(b) else f"DIFFERENT: {sorted(other)}")
 sys.exit(1 if other or sorted(a) != sorted(b) else 0)
 PY

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::measure;
 use crate::config::{Initial, Scene, ViscousNormalisation, WallVelocity};
-use crate::problem::Problem;
+use crate::problem::{cost, Problem};
 
 /// shearsph on the scene matched to PySPH's stock example
 /// `pysph.examples.poiseuille` (see bench/peers/): one run of fixed steps.
@@ -85,7 +85,7 @@ pub fn pysph_match_problem(
     };
     let mut problem = Problem::resolve(&scene, scene.kernel_info()?)
         .map_err(|e| e.with_flag("n_layers", "layers"))?;
-    let lat = &mut problem.lattice;
+    let lat = &problem.lattice;
     let narrowest = lat.columns;
     let per_column = lat.n_particles() / lat.columns as usize;
     let c = match columns {
@@ -98,10 +98,58 @@ pub fn pysph_match_problem(
             (want.div_ceil(per_column) as u32).max(narrowest)
         }
     };
+    check_columns(&problem, c)?;
+    let lat = &mut problem.lattice;
     // The flow does not depend on x: a wider strip only holds more particles.
     lat.columns = c;
     lat.width = f64::from(c) * lat.d;
     Ok(problem)
+}
+
+/// `--columns` within the memory a run may take ([`cost::MAX_RUN_BYTES`],
+/// [`cost::MAX_PARTICLES`]), checked before the strip is widened.
+fn check_columns(problem: &Problem, columns: u32) -> Result<()> {
+    let lat = &problem.lattice;
+    let per_column = lat.n_particles() as f64 / f64::from(lat.columns);
+    let particles = per_column * f64::from(columns);
+    let neighbours =
+        cost::listed_neighbours(lat.kind, lat.d, lat.h, problem.kernel.support, problem.skin);
+    let bytes = cost::memory_bytes(particles, neighbours, 0.0, 0.0);
+    if !(particles <= cost::MAX_PARTICLES && bytes <= cost::MAX_RUN_BYTES) {
+        bail!(
+            "--columns {columns}: the strip would hold {} particles, about {} of memory, over the \
+             bound of {} particles and {}; give fewer columns",
+            crate::format::fmt_value(particles),
+            cost::human_bytes(bytes),
+            crate::format::fmt_value(cost::MAX_PARTICLES),
+            cost::human_bytes(cost::MAX_RUN_BYTES)
+        );
+    }
+    Ok(())
+}
+
+/// `steps` steps of `problem` within the bench's time bound
+/// ([`super::MAX_BENCH_S`], by the scene's own estimate), or an error
+/// naming `what` set them (`--steps 2000`, `--tau 1`).
+fn check_steps(problem: &Problem, steps: f64, what: &str) -> Result<()> {
+    let channel = problem.channel();
+    let est = cost::Estimate::new(&channel, problem.c0, problem.t_end);
+    let s = steps
+        * channel.lattice.n_particles() as f64
+        * est.neighbours(&channel, problem.kernel.support, problem.skin)
+        * 2.0
+        * cost::EST_S_PER_PAIR_PASS;
+    if s.is_nan() || s > super::MAX_BENCH_S {
+        bail!(
+            "{what}: the run would take about {} on one core ({} steps of {} particles), over the \
+             bound of {}; give less",
+            cost::human_seconds(s),
+            crate::format::fmt_value(steps),
+            channel.lattice.n_particles(),
+            cost::human_seconds(super::MAX_BENCH_S)
+        );
+    }
+    Ok(())
 }
 
 /// Particles of PySPH's example at `rows` rows across the channel
@@ -129,7 +177,9 @@ pub fn pysph_match(
 ) -> Result<PeerRun> {
     let problem = pysph_match_problem(wall_velocity, layers, columns)?;
     let scale = (f64::from(layers) / f64::from(PYSPH_MATCH_LAYERS)).powi(2);
-    let steps = ((steps as f64 * scale).round() as u64).max(1);
+    let scaled = (steps as f64 * scale).round().max(1.0);
+    check_steps(&problem, scaled, &format!("--steps {steps}"))?;
+    let steps = scaled as u64;
     run_matched(
         "shearsph (morris = quintic spline)",
         &problem,
@@ -155,7 +205,10 @@ pub fn sphinxsys_match_problem(
     viscous: ViscousNormalisation,
 ) -> Result<Problem> {
     if !(tau > 0.0 && tau.is_finite()) {
-        bail!("--tau {tau} must be a positive number (t nu / B^2)");
+        bail!(
+            "--tau {} must be a positive number (t nu / B^2)",
+            crate::format::fmt_value(tau)
+        );
     }
     let scene = Scene {
         kernel: "wendland_c2".into(),
@@ -180,17 +233,29 @@ pub fn sphinxsys_match_problem(
         t_end: Some(t_end),
         ..scene
     };
-    probe = Problem::resolve(&scene, info)?;
+    // The end time is --tau's: a run too long for the scene's bound is
+    // refused naming it (the scene's own fields are not the user's here).
+    probe = Problem::resolve(&scene, info).map_err(|e| match e.field() {
+        Some("t_end" | "max_run_s" | "output_interval") => {
+            anyhow::anyhow!(
+                "--tau {} (t_end = tau B^2 / nu = {} here): {e}",
+                crate::format::fmt_value(tau),
+                crate::format::fmt_value(t_end)
+            )
+        }
+        _ => e.into(),
+    })?;
     if let Some(c) = columns {
-        let lat = &mut probe.lattice;
-        if c < lat.columns {
+        if c < probe.lattice.columns {
             bail!(
                 "--columns {c} is narrower than kernel {} needs at h = {} d (at least {} columns)",
                 info.name,
                 scene.h_over_d,
-                lat.columns
+                probe.lattice.columns
             );
         }
+        check_columns(&probe, c)?;
+        let lat = &mut probe.lattice;
         // A wider strip than the kernel needs: the flow does not depend on x.
         lat.columns = c;
         lat.width = f64::from(c) * lat.d;

@@ -23,6 +23,7 @@ pub fn class_color(c: Class) -> RGBColor {
         Class::Inaccurate => RGBColor(230, 159, 0),
         Class::OverCompressed => RGBColor(148, 103, 189),
         Class::Failed => RGBColor(214, 39, 40),
+        Class::Interrupted => RGBColor(127, 127, 127),
     }
 }
 

@@ -93,35 +93,75 @@ fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
+impl BenchArgs {
+    /// Every count checked before any work (at least 1, within its bound,
+    /// no value twice, the whole bench within its time bound), and the
+    /// options of the default bench (for `--pysph-match` and
+    /// `--sphinxsys-match` their counts are checked and the options unused).
+    pub fn options(&self) -> Result<Options> {
+        if self.layers == Some(0) {
+            bail!("--layers must be at least 1 (30 is PySPH's resolution, 10 SPHinXsys's)");
+        }
+        if self.layers.is_some() && !(self.pysph_match || self.sphinxsys_match) {
+            bail!("--layers goes with --pysph-match or --sphinxsys-match");
+        }
+        if self.columns.is_some() && !(self.pysph_match || self.sphinxsys_match) {
+            bail!("--columns goes with --pysph-match or --sphinxsys-match");
+        }
+        if self.columns == Some(0) {
+            bail!("--columns must be at least 1 (120 is SPHinXsys's stock channel at 10 layers)");
+        }
+        let mut opts = Options::defaults();
+        if !self.kernels.is_empty() {
+            for k in &self.kernels {
+                if kernels::kernel_info(k).is_none() {
+                    bail!(
+                        "unknown kernel {k:?} (flag --kernels); known kernels: {}",
+                        kernels::NAMES.join(", ")
+                    );
+                }
+            }
+            opts.kernels = self.kernels.clone();
+        }
+        if !self.particles.is_empty() {
+            opts.particles = self.particles.clone();
+        }
+        if !self.threads.is_empty() {
+            opts.threads = self.threads.clone();
+        }
+        opts.steps = self.steps;
+        opts.repeats = self.repeats;
+        opts.bandwidth = !self.no_bandwidth;
+        if self.pysph_match || self.sphinxsys_match {
+            // One run: its thread count, and its steps by the peer's own
+            // estimate (bench::pysph_match checks them).
+            if self.steps == Some(0) {
+                bail!("--steps must be at least 1: a measurement of no steps has no throughput");
+            }
+            if self.threads.contains(&0) {
+                bail!("--threads must be at least 1");
+            }
+            let threads = crate::config::bounds::threads();
+            for &t in &self.threads {
+                threads.check_usize("--threads", t)?;
+            }
+        } else {
+            bench::check(&opts)?;
+        }
+        Ok(opts)
+    }
+}
+
 pub fn main(args: BenchArgs) -> Result<ExitCode> {
-    // Every count flag at least 1 (clap's u64/usize/u32 already refuse
-    // negative, fractional and non-finite values, naming the flag).
-    if args.steps == Some(0) {
-        bail!("--steps must be at least 1: a measurement of no steps has no throughput");
-    }
-    if args.repeats == 0 {
-        bail!("--repeats must be at least 1");
-    }
-    if args.threads.contains(&0) {
-        bail!("--threads must be at least 1");
-    }
-    if args.layers == Some(0) {
-        bail!("--layers must be at least 1 (30 is PySPH's resolution, 10 SPHinXsys's)");
-    }
+    // Every count flag within its bound before any work (clap's
+    // u64/usize/u32 already refuse negative, fractional and non-finite
+    // values, naming the flag).
+    let opts = args.options()?;
     let threads = args
         .threads
         .first()
         .copied()
         .unwrap_or_else(|| *bench::thread_counts().last().expect("one count"));
-    if args.layers.is_some() && !(args.pysph_match || args.sphinxsys_match) {
-        bail!("--layers goes with --pysph-match or --sphinxsys-match");
-    }
-    if args.columns.is_some() && !(args.pysph_match || args.sphinxsys_match) {
-        bail!("--columns goes with --pysph-match or --sphinxsys-match");
-    }
-    if args.columns == Some(0) {
-        bail!("--columns must be at least 1 (120 is SPHinXsys's stock channel at 10 layers)");
-    }
     if args.sphinxsys_match {
         let layers = args.layers.unwrap_or(10);
         let run = bench::sphinxsys_match(
@@ -147,27 +187,6 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);
     }
-    let mut opts = Options::defaults();
-    if !args.kernels.is_empty() {
-        for k in &args.kernels {
-            if kernels::kernel_info(k).is_none() {
-                bail!(
-                    "unknown kernel {k:?} (flag --kernels); known kernels: {}",
-                    kernels::NAMES.join(", ")
-                );
-            }
-        }
-        opts.kernels = args.kernels;
-    }
-    if !args.particles.is_empty() {
-        opts.particles = args.particles;
-    }
-    if !args.threads.is_empty() {
-        opts.threads = args.threads;
-    }
-    opts.steps = args.steps;
-    opts.repeats = args.repeats;
-    opts.bandwidth = !args.no_bandwidth;
     let quiet = args.quiet;
     let report = bench::run(&opts, |msg| {
         if !quiet {

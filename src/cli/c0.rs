@@ -4,7 +4,7 @@
 
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use clap::Args;
 
 use std::io::IsTerminal;
@@ -13,12 +13,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use std::sync::atomic::AtomicBool;
 
-use anyhow::bail;
-
-use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
+use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
 use super::SceneArgs;
 use crate::config::{C0Spec, Scene};
 use crate::empirical::{answer, resolve_empirical, Extras, Search};
+use crate::format::fmt_value;
 use crate::problem::c0::table;
 use crate::solver::Class;
 
@@ -83,7 +82,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     if args.empirical || asks_empirical {
         return empirical(&args);
     }
-    let t = table(&args.scene.load()?)?;
+    let t = table(&args.scene.load()?).map_err(|e| args.scene.label(e))?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&t)?);
         return Ok(ExitCode::SUCCESS);
@@ -159,6 +158,16 @@ pub fn empirical_scene(
     stop: &AtomicBool,
 ) -> Result<Scene> {
     let search = Search::default();
+    if matches!(
+        scene.c0,
+        C0Spec::Rule {
+            rule: crate::config::C0Rule::Empirical,
+            ..
+        }
+    ) {
+        crate::problem::c0::table(&scene)?;
+        check_search_top(&scene, &search, &|_| None)?;
+    }
     let bar = runs_bar(quiet);
     bar.set_message("c0 = empirical: the search first");
     let Some((s, a)) = resolve_empirical(&scene, &search, stop, &bar)? else {
@@ -194,8 +203,61 @@ pub fn empirical_scene(
     Ok(s)
 }
 
+/// The search's extreme runs valid before any run: its first probe, c0 =
+/// `hi_over_u` U (the top of the bracket), and the largest c0 it may
+/// recommend and then run, `margin` times that. An error names the
+/// search's own field as `name` gives it (`--margin`, a law config's
+/// `hi_over_u`; `None`: a field the command does not take), not the c0
+/// the scene would have had.
+pub(crate) fn check_search_top(
+    scene: &Scene,
+    search: &Search,
+    name: &dyn Fn(&str) -> Option<String>,
+) -> Result<()> {
+    use crate::problem::Problem;
+    let info = scene.kernel_info()?;
+    let u = crate::problem::channel::Channel::resolve(scene, info)?
+        .flow
+        .u;
+    // The scene as the engine runs it: a jittered start to the
+    // stationary horizon.
+    let at = |c0: f64| {
+        let s = crate::empirical::trial::start_scene(scene, c0, (search.amplitude, 1));
+        Problem::resolve(&s, info).and_then(|p| p.check_duration())
+    };
+    let top = search.hi_over_u * u;
+    if let Err(e) = at(top) {
+        let who = name("hi_over_u").map_or_else(
+            || "the search's first probe".to_string(),
+            |n| {
+                format!(
+                    "{n} = {}: the search's first probe",
+                    fmt_value(search.hi_over_u)
+                )
+            },
+        );
+        bail!(
+            "{who}, c0 = {} U, would not run: {e}",
+            fmt_value(search.hi_over_u)
+        );
+    }
+    if let Err(e) = at(top * search.margin) {
+        let who = name("margin").unwrap_or_else(|| "the margin".into());
+        bail!(
+            "{who} = {}: the recommended c0 may be as large as margin x {} U = {} U, and it is run \
+             (on every start) once found, but a run at it would not: {e}",
+            fmt_value(search.margin),
+            fmt_value(search.hi_over_u),
+            fmt_value(search.margin * search.hi_over_u)
+        );
+    }
+    Ok(())
+}
+
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
+    // Everything but c0 must be valid before the first run.
+    table(&scene).map_err(|e| args.scene.label(e))?;
     let search = Search {
         amplitude: args.amplitude,
         seeds: args.seeds,
@@ -210,7 +272,13 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
             bail!("--tolerance = {t} must be a density tolerance in (0, 1), e.g. 0.01");
         }
     }
-    let stop = stop_on_ctrl_c_saying("stopping the search")?;
+    // The engine's own ranges first (Search::check), then the runs at the
+    // top of the search.
+    search.check(|field| format!("--{}", field.replace('_', "-")))?;
+    check_search_top(&scene, &search, &|field| {
+        (field != "hi_over_u").then(|| format!("--{}", field.replace('_', "-")))
+    })?;
+    let stop = stop_flag("stopping the search")?;
     let bar = runs_bar(args.quiet);
     let extras = Extras {
         rules: !args.no_rules,

@@ -8,10 +8,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
 use crate::law::{self, describe, Config, Law};
 use crate::output::{prepare_dir, write_atomic};
 
@@ -48,10 +49,31 @@ pub fn main(args: LawArgs) -> Result<ExitCode> {
         Config::default_full,
     )?;
     if !args.kernel.is_empty() {
+        crate::config::bounds::distinct("--kernel", &args.kernel)?;
         config.kernels = args.kernel.clone();
     }
     for k in &config.kernels {
         crate::config::kernel_info(k)?;
+    }
+    // Every point's search within its scene's bounds before any run: the
+    // first probe (hi_over_u U) and the largest recommendation (the law
+    // runs none, but its margin is the engine's) named as the config's.
+    let origin = args.config.as_ref().map_or_else(
+        || "the embedded law config".to_string(),
+        |p| format!("law config {}", p.display()),
+    );
+    let search = config.search();
+    for (k, n, re, a) in config.points() {
+        let scene = config.scene(&k, n, re, a)?;
+        super::c0::check_search_top(
+            &scene,
+            &crate::empirical::Search {
+                margin: 1.0,
+                ..search
+            },
+            &|field| Some(format!("{origin}: `{field}`")),
+        )
+        .with_context(|| format!("law point kernel {k}, N = {n}, Re = {re}, alpha = {a}"))?;
     }
     prepare_dir(&args.out, args.force)?;
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -64,25 +86,29 @@ pub fn main(args: LawArgs) -> Result<ExitCode> {
         );
         bar
     };
-    let stop = super::interrupt::stop_on_ctrl_c_saying("stopping the law's runs")?;
     let t0 = Instant::now();
-    let points = match law::run(&config, &stop, &bar) {
-        Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => {
-            bar.finish_and_clear();
-            eprintln!("interrupted: the law's points are not written");
-            return Ok(ExitCode::from(super::interrupt::EXIT_INTERRUPTED));
-        }
-        r => r?,
-    };
+    let stop = stop_flag(
+        "starting no more points; the finished ones are written (the one running is dropped)",
+    )?;
+    let planned = config.points().len();
+    let points = law::run_until(&config, &bar, stop)?;
     bar.finish_and_clear();
+    let interrupted = points.len() < planned;
     let result = Law::new(&config, points, t0.elapsed().as_secs_f64());
     write_atomic(
         &args.out.join("law.csv"),
         law::csv(&result.points).as_bytes(),
     )?;
+    // An interrupted law says so in its JSON: its fits are of the points
+    // finished, not of the config's grid.
+    let mut json = serde_json::to_value(&result)?;
+    if let Some(obj) = json.as_object_mut() {
+        obj.insert("interrupted".into(), interrupted.into());
+        obj.insert("points_planned".into(), planned.into());
+    }
     write_atomic(
         &args.out.join("law.json"),
-        serde_json::to_string_pretty(&result)?.as_bytes(),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
     for kl in &result.laws {
         let svg = crate::charts::law::law_svg(kl, &result.points)?;
@@ -114,5 +140,13 @@ pub fn main(args: LawArgs) -> Result<ExitCode> {
         result.wall_s,
         args.out.display()
     );
+    if interrupted {
+        eprintln!(
+            "interrupted: {} of {planned} points finished, written (law.json says \"interrupted\": true); \
+             the fits are of those",
+            result.points.len()
+        );
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
     Ok(ExitCode::SUCCESS)
 }

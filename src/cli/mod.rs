@@ -203,6 +203,26 @@ impl SceneArgs {
     pub fn load(&self) -> Result<Scene> {
         Ok(Scene::load(self.scene.as_deref(), self.overrides())?)
     }
+
+    /// `e` naming where its field's value came from: the flag when one set
+    /// it; the scene file (`--scene FILE`) when that did; else the flag that
+    /// would set it (the built-in default's field).
+    pub fn label(&self, e: crate::config::SceneError) -> crate::config::SceneError {
+        let Some(field) = e.field() else {
+            return e;
+        };
+        if self.overrides().contains_key(field) {
+            return e;
+        }
+        let in_file = self.scene.as_deref().and_then(|path| {
+            let table: toml::Table = std::fs::read_to_string(path).ok()?.parse().ok()?;
+            table.contains_key(field).then_some(path)
+        });
+        match in_file {
+            Some(path) => e.from_origin(format!("scene file {}", path.display())),
+            None => e,
+        }
+    }
 }
 
 /// Print an error with its causes and give the exit code for it.

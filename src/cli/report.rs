@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 
-use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
+use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
 use super::sweep::scenes_bar;
 use crate::report::{self, Config, Options};
 use crate::sweep::Parallel;
@@ -33,7 +33,7 @@ pub struct ReportArgs {
     /// embedded one.
     #[arg(long, value_name = "FILE", conflicts_with = "quick")]
     pub config: Option<PathBuf>,
-    /// Scenes at once (default: one per core).
+    /// Scenes at once (default: one per core; at most 8 per core).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// No progress bar (the stage lines still go to stderr).
@@ -42,6 +42,9 @@ pub struct ReportArgs {
 }
 
 pub fn main(args: ReportArgs) -> Result<ExitCode> {
+    if let Some(j) = args.jobs {
+        crate::config::bounds::threads().check_usize("--jobs", j)?;
+    }
     let config = super::load_config(
         args.config.as_deref(),
         args.quick,
@@ -49,9 +52,8 @@ pub fn main(args: ReportArgs) -> Result<ExitCode> {
         Config::quick,
         Config::default_full,
     )?;
-    let stop = stop_on_ctrl_c_saying(
-        "stopping the report's scenes; the report keeps only files already complete",
-    )?;
+    let stop =
+        stop_flag("stopping the report's scenes; the report keeps only files already complete")?;
     let bar = scenes_bar(args.quiet);
     let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
     let opts = Options {
@@ -59,7 +61,7 @@ pub fn main(args: ReportArgs) -> Result<ExitCode> {
         force: args.force,
         law: args.law.clone(),
     };
-    let data = match report::run(&config, args.quick, &args.out, opts, &stop, &bar, &log) {
+    let data = match report::run(&config, args.quick, &args.out, opts, stop, &bar, &log) {
         Ok(data) => data,
         Err(e) if stop.load(std::sync::atomic::Ordering::SeqCst) => {
             bar.finish_and_clear();

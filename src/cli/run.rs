@@ -10,13 +10,12 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::interrupt::{stop_on_ctrl_c_saying, EXIT_INTERRUPTED};
+use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
 use super::SceneArgs;
 use crate::charts::run::stage_charts;
 use crate::output::{self, StagedSet, Summary};
@@ -37,7 +36,8 @@ pub const EXIT_OVER_COMPRESSED: u8 = 5;
 ///
 /// Exit status: 0 when the run is `ok`; 3 `failed`; 4 `inaccurate` (L_inf
 /// error above linf_bound); 5 `over-compressed` (compaction above the
-/// kernel's eps0 + eps_margin); 130 when Ctrl-C stopped it (`interrupted`);
+/// kernel's eps0 + eps_margin); 130 when a signal (Ctrl-C, SIGTERM, SIGHUP)
+/// stopped it (`interrupted`);
 /// the outputs are written in all these cases. 1 on an error (bad input).
 #[derive(Debug, Args)]
 #[command(allow_negative_numbers = true, args_override_self = true)]
@@ -68,11 +68,14 @@ pub struct RunArgs {
 
 pub fn main(args: RunArgs) -> Result<ExitCode> {
     let scene = args.scene.load()?;
-    let stop = stop_on_ctrl_c_saying("ending the run at this step and writing its outputs so far")?;
+    let stop = stop_flag("ending the run at this step and writing its outputs so far")?;
     // `--c0 empirical`: the search first, then this run at its answer.
-    let scene = super::c0::empirical_scene(scene, args.quiet, !args.json, &stop)?;
-    // Check everything before touching the output folder.
-    let problem = Problem::resolve(&scene, scene.kernel_info()?)?;
+    let scene = super::c0::empirical_scene(scene, args.quiet, !args.json, stop)?;
+    // Check everything before touching the output folder: the scene, and a
+    // run that covers at least one time step.
+    let problem = Problem::resolve(&scene, scene.kernel_info()?)
+        .and_then(|p| p.check_duration().map(|()| p))
+        .map_err(|e| args.scene.label(e))?;
     output::prepare_dir(&args.out, args.force)?;
     let set = StagedSet::begin(&args.out)?;
 
@@ -128,22 +131,19 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
     if args.json {
         println!("{}", summary.to_json());
         if let Outcome::Failed { .. } = result.outcome {
-            eprintln!("outcome: {}", result.outcome);
+            eprintln!("class: {}", verdict(&summary, &result.outcome, class));
         }
     } else {
         print_summary(&summary, &result.outcome, class, &args.out);
     }
-    Ok(match result.outcome {
-        Outcome::Ok | Outcome::Failed { .. } => exit_code(class),
-        Outcome::Interrupted { .. } => {
-            eprintln!(
-                "{}: the outputs up to there are in {}",
-                result.outcome,
-                args.out.display()
-            );
-            ExitCode::from(EXIT_INTERRUPTED)
-        }
-    })
+    if class == Class::Interrupted {
+        eprintln!(
+            "{}: the outputs up to there are in {}",
+            result.outcome,
+            args.out.display()
+        );
+    }
+    Ok(exit_code(class))
 }
 
 /// Every output of the run, staged beside the particle series already in
@@ -161,8 +161,8 @@ fn write_set(set: StagedSet, result: &RunResult, last: Result<Option<Snapshot>>)
 struct Progress {
     bar: ProgressBar,
     t_end: f64,
-    /// Set by Ctrl-C.
-    stop: Arc<AtomicBool>,
+    /// Set by a signal.
+    stop: &'static AtomicBool,
 }
 
 impl Observer for Progress {
@@ -190,6 +190,40 @@ pub fn exit_code(class: Class) -> ExitCode {
         Class::Inaccurate => ExitCode::from(EXIT_INACCURATE),
         Class::OverCompressed => ExitCode::from(EXIT_OVER_COMPRESSED),
         Class::Failed => ExitCode::from(EXIT_FAILED_RUN),
+        Class::Interrupted => ExitCode::from(EXIT_INTERRUPTED),
+    }
+}
+
+/// The run's class and, in the same line, what made it that: one statement
+/// (never "outcome: ok" beside "class: over-compressed").
+fn verdict(s: &Summary, outcome: &Outcome, class: Class) -> String {
+    let within = format!(
+        "mean-flow L_inf {:.4} of U (bound {:.4}), eps_stat {:.4} (bound {:.4}) over its window",
+        s.linf_stat, s.linf_bound, s.eps_stat, s.eps_bound
+    );
+    match (class, outcome) {
+        (Class::Ok, _) => format!("ok: within both bounds, {within}"),
+        (Class::Inaccurate, _) => format!(
+            "inaccurate: its window's mean-flow error {:.4} of U is above {:.4}",
+            s.linf_stat, s.linf_bound
+        ),
+        (Class::OverCompressed, _) => format!(
+            "over-compressed: its window's compaction eps_stat (mean p99 eps) {:.4} is above {:.4} \
+             (the kernel's eps0 plus eps_margin)",
+            s.eps_stat, s.eps_bound
+        ),
+        // "failed at t = ..., step ...: what, the particle"
+        (Class::Failed, Outcome::Failed { .. }) => outcome.to_string(),
+        (Class::Failed, _) => format!(
+            "failed: reached t_end with {}",
+            s.failure_reason
+                .as_deref()
+                .unwrap_or("an error that is not finite")
+        ),
+        (Class::Interrupted, _) => format!(
+            "interrupted: stopped at t = {:.6} of {:.6} (step {}), before t_end: not judged, {within} so far",
+            s.t, s.t_end, s.steps
+        ),
     }
 }
 
@@ -245,11 +279,6 @@ fn print_summary(s: &Summary, outcome: &Outcome, class: Class, out: &std::path::
     if let Some(why) = &s.unsteady {
         println!("  not stationary: {why}");
     }
-    println!("outcome: {outcome}");
-    println!(
-        "class: {class} (inaccurate above a mean-flow L_inf of {:.4} U, over-compressed above \
-         eps_stat {:.4})",
-        s.linf_bound, s.eps_bound
-    );
+    println!("class: {}", verdict(s, outcome, class));
     println!("outputs in {}", out.display());
 }

@@ -14,9 +14,10 @@ use serde::Serialize;
 
 use super::interrupt::{stop_on_ctrl_c, EXIT_INTERRUPTED};
 use crate::charts;
+use crate::config::bounds;
 use crate::output::write_atomic;
 use crate::report;
-use crate::sweep::{self, store, Class, Parallel, Row, Shard, SweepSpec};
+use crate::sweep::{self, store, Class, Origins, Parallel, Row, ShardArg, SweepSpec};
 
 /// Run a grid of scenes in parallel, or merge shard folders.
 ///
@@ -53,6 +54,10 @@ pub struct MergeArgs {
     /// No charts, only the rows.
     #[arg(long)]
     pub no_charts: bool,
+    /// Merge even when some points of the grid are finished in none of the
+    /// folders (by default that is an error naming what is missing).
+    #[arg(long)]
+    pub partial: bool,
 }
 
 #[derive(Debug, Args)]
@@ -122,12 +127,14 @@ pub struct RunSweepArgs {
     pub force: bool,
     /// Run only grid points k, k + n, k + 2n, ... (0 <= k < n); `auto` takes
     /// k and n from a Slurm job array (SLURM_ARRAY_TASK_ID - _MIN, _COUNT).
+    /// A folder keeps its shard (shard.toml): a resubmitted task resumes it.
     #[arg(long, value_name = "K/N|auto", allow_hyphen_values = true)]
-    pub shard: Option<Shard>,
-    /// Scenes at once (default: cores / threads-per-scene).
+    pub shard: Option<ShardArg>,
+    /// Scenes at once (default: cores / threads-per-scene; at most 8 threads
+    /// per core in all).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Threads inside each scene.
+    /// Threads inside each scene (at most 8 threads per core in all).
     #[arg(long, default_value_t = 1)]
     pub threads_per_scene: usize,
     /// No progress bar.
@@ -161,11 +168,75 @@ impl RunSweepArgs {
             || self.eps_margin.is_some()
     }
 
+    /// Scenes at once and threads in each, checked against the threads'
+    /// bound ([`bounds::threads`]) before any work: 0 of either is an error
+    /// (not silently 1), and so is more than 8 threads per core in all.
+    pub fn parallel(&self) -> Result<Parallel> {
+        let threads = bounds::threads();
+        threads.check_usize("--threads-per-scene", self.threads_per_scene)?;
+        if let Some(j) = self.jobs {
+            threads.check_usize("--jobs", j)?;
+        }
+        let par = Parallel::new(self.jobs, self.threads_per_scene);
+        threads.check_usize(
+            &format!(
+                "--jobs x --threads-per-scene ({} x {})",
+                par.jobs, par.threads_per_scene
+            ),
+            par.jobs.saturating_mul(par.threads_per_scene),
+        )?;
+        Ok(par)
+    }
+
+    /// Where each of the grid's values came from: the flags given, the
+    /// sweep file's fields, the `--scene` file's.
+    pub fn origins(&self) -> Result<SweepOrigins> {
+        let read = |path: &Path, what: &str| -> Result<toml::Table> {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {what} {}", path.display()))?;
+            text.parse().map_err(|e: toml::de::Error| {
+                anyhow::anyhow!("{what} {}: {}", path.display(), e.message().trim())
+            })
+        };
+        let mut flags = Vec::new();
+        let mut given = |field: &'static str, yes: bool| {
+            if yes {
+                flags.push(field);
+            }
+        };
+        given("kernels", !self.kernel.is_empty());
+        given("n", !self.n.is_empty());
+        given("re", !self.re.is_empty());
+        given("alpha", !self.alpha.is_empty());
+        given("c0", !self.c0.is_empty());
+        given("c0_over_u", !self.c0_over_u.is_empty());
+        given("lattice", !self.lattice.is_empty());
+        given("h_over_d", !self.h_over_d.is_empty());
+        given("jitter", !self.jitter.is_empty());
+        given("seeds", self.seeds.is_some());
+        given("classes.linf_bound", self.linf_bound.is_some());
+        given("classes.eps_margin", self.eps_margin.is_some());
+        given("scene.t_end", self.t_end.is_some());
+        given("scene.decay_tol", self.decay_tol.is_some());
+        Ok(SweepOrigins {
+            flags,
+            file: match &self.sweep {
+                Some(p) => Some((p.clone(), read(p, "sweep file")?)),
+                None => None,
+            },
+            scene_file: match &self.scene {
+                Some(p) => Some((p.clone(), read(p, "scene file")?)),
+                None => None,
+            },
+        })
+    }
+
     /// The sweep the flags and file give, or `None` for "the folder's own".
     pub fn spec(&self) -> Result<Option<SweepSpec>> {
         if !self.has_grid() {
             return Ok(None);
         }
+        let origins = self.origins()?;
         let mut spec = match &self.sweep {
             Some(path) => {
                 let text = std::fs::read_to_string(path)
@@ -226,7 +297,76 @@ impl RunSweepArgs {
         if let Some(m) = self.eps_margin {
             spec.classes.eps_margin = m;
         }
-        Ok(Some(spec.resolved()?))
+        Ok(Some(spec.resolved_as(&origins)?))
+    }
+}
+
+/// Where a sweep's values came from: the grid's fields given as flags, the
+/// sweep file's and the `--scene` file's tables (see [`Origins`]).
+#[derive(Debug, Default)]
+pub struct SweepOrigins {
+    /// Grid fields (`n`, `classes.linf_bound`, `scene.t_end`) set by a flag.
+    flags: Vec<&'static str>,
+    file: Option<(PathBuf, toml::Table)>,
+    scene_file: Option<(PathBuf, toml::Table)>,
+}
+
+impl SweepOrigins {
+    fn flag(&self, field: &str) -> bool {
+        self.flags.contains(&field)
+    }
+
+    /// Whether the sweep file has `field` (`n`, `classes.linf_bound`,
+    /// `scene.gamma`).
+    fn in_file(&self, field: &str) -> Option<&Path> {
+        let (path, table) = self.file.as_ref()?;
+        let mut t = table;
+        let mut parts = field.split('.').peekable();
+        while let Some(part) = parts.next() {
+            let v = t.get(part)?;
+            if parts.peek().is_none() {
+                return Some(path);
+            }
+            t = v.as_table()?;
+        }
+        None
+    }
+}
+
+impl Origins for SweepOrigins {
+    fn grid(&self, field: &str) -> String {
+        let flag = sweep::grid_flag(field);
+        if self.flag(field) {
+            format!("flag --{flag}")
+        } else if let Some(path) = self.in_file(field) {
+            format!("sweep file {}, field `{field}`", path.display())
+        } else {
+            format!("sweep field `{field}`, by default (flag --{flag})")
+        }
+    }
+
+    fn scene(&self, field: &str) -> String {
+        if self.flag(&format!("scene.{field}")) {
+            format!("flag --{}", field.replace('_', "-"))
+        } else if let Some((path, _)) = self
+            .scene_file
+            .as_ref()
+            .filter(|(_, t)| t.contains_key(field))
+        {
+            format!("scene file {} (--scene), field `{field}`", path.display())
+        } else if let Some(path) = self.in_file(&format!("scene.{field}")) {
+            format!("sweep file {}, field `scene.{field}`", path.display())
+        } else {
+            format!("the base scene's `{field}`, by default")
+        }
+    }
+
+    fn scene_table(&self) -> String {
+        match (&self.file, &self.scene_file) {
+            (_, Some((p, _))) => format!("the base scene (scene file {}, --scene)", p.display()),
+            (Some((p, _)), None) => format!("sweep file {}, table [scene]", p.display()),
+            _ => "the base scene".into(),
+        }
     }
 }
 
@@ -268,26 +408,31 @@ pub fn main(args: SweepArgs) -> Result<ExitCode> {
 }
 
 fn run(args: RunSweepArgs) -> Result<ExitCode> {
+    // Every count and value before any work.
+    let par = args.parallel()?;
     let spec = args.spec()?;
+    let origins = args.origins()?;
     let stop = stop_on_ctrl_c()?;
     let bar = scenes_bar(args.quiet);
-    let par = Parallel::new(args.jobs, args.threads_per_scene);
     let r = sweep::run_sweep_with(
         &args.out,
         spec,
         args.force,
         args.shard,
         par,
-        &stop,
+        stop,
         &bar,
         &|_| {},
-        args.particles_every,
+        &sweep::SweepExtras {
+            particles_every: args.particles_every,
+            origins: Some(&origins),
+        },
     )?;
     bar.finish_and_clear();
     if !args.no_charts {
         write_charts(&args.out, &r.spec, &r.rows)?;
     }
-    if let Some(s) = args.shard {
+    if let Some(s) = r.shard {
         if r.ran + r.already + r.remaining == 0 {
             eprintln!(
                 "warning: shard {}/{} gets no point of the {}-point grid (points k, k + n, ...): it ran nothing",
@@ -337,7 +482,7 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
 }
 
 fn merge(args: MergeArgs) -> Result<ExitCode> {
-    let (spec, rows) = store::merge(&args.dirs, &args.out, args.force)?;
+    let (spec, rows) = store::merge(&args.dirs, &args.out, args.force, args.partial)?;
     if !args.no_charts {
         write_charts(&args.out, &spec, &rows)?;
     }

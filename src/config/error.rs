@@ -16,9 +16,48 @@ pub enum SceneError {
     UnknownKernel { name: String, known: String },
     #[error("{origin}: {message}")]
     Read { origin: String, message: String },
+    /// [`SceneError::Invalid`] naming where the value came from (a scene
+    /// file, a sweep's field) instead of the flag: see
+    /// [`SceneError::from_origin`].
+    #[error("invalid `{field}` ({origin}): {message}")]
+    InvalidFrom {
+        field: &'static str,
+        origin: String,
+        message: String,
+    },
 }
 
 impl SceneError {
+    /// The field an invalid value is in.
+    pub fn field(&self) -> Option<&'static str> {
+        match self {
+            SceneError::Invalid { field, .. } | SceneError::InvalidFrom { field, .. } => {
+                Some(field)
+            }
+            _ => None,
+        }
+    }
+
+    /// This error naming where its value came from (`scene file s.toml`,
+    /// `sweep field `n` (flag --n)`) in place of the field's flag: a value
+    /// read from a file is not labelled with a flag the user never typed.
+    pub fn from_origin(self, origin: impl Into<String>) -> SceneError {
+        match self {
+            SceneError::Invalid { field, message, .. }
+            | SceneError::InvalidFrom { field, message, .. } => SceneError::InvalidFrom {
+                field,
+                origin: origin.into(),
+                message,
+            },
+            other => other,
+        }
+    }
+
+    /// The flag that sets `field` in a scene (`n_layers`: `n`).
+    pub fn flag_of(field: &'static str) -> &'static str {
+        flag_of(field)
+    }
+
     /// This error with `flag` as the flag of `field`, for a command whose
     /// own flag sets that field (bench's `--layers` sets `n_layers`): the
     /// message names the flag the user typed.

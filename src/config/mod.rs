@@ -9,8 +9,10 @@
 //! One job per file: [`scene`] the fields and their defaults, [`overlay`]
 //! reading TOML in layers, [`c0_spec`] the c0 rule as a typed value,
 //! [`lookup`] the kernel and discretisation a scene names, [`error`] the
-//! errors and the guards shared by every field.
+//! errors and the guards shared by every field, [`bounds`] the bound of
+//! every count a command takes (seeds, threads, points, repeats).
 
+pub mod bounds;
 pub mod c0_spec;
 pub mod error;
 pub mod lookup;

@@ -15,7 +15,6 @@ use std::sync::atomic::AtomicBool;
 
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::config::Scene;
@@ -62,6 +61,24 @@ impl Config {
                 bail!("law config {origin}: `{field}` is empty; give at least one value");
             }
         }
+        // A value twice would run (and fit) one point twice; every count
+        // bounded (the search's own by Search::check below).
+        let field = |f: &str| format!("law config {origin}: `{f}`");
+        use crate::config::bounds::{distinct, POINTS};
+        distinct(&field("kernels"), &c.kernels)?;
+        distinct(&field("n"), &c.n)?;
+        distinct(&field("re"), &c.re)?;
+        distinct(&field("alpha"), &c.alpha)?;
+        if c.n.contains(&0) {
+            bail!("{}: 0 is not a number of layers; give N >= 1", field("n"));
+        }
+        let points = [c.kernels.len(), c.n.len(), c.re.len(), c.alpha.len()]
+            .into_iter()
+            .fold(1u64, |a, b| a.saturating_mul(b as u64));
+        POINTS.check(
+            &format!("law config {origin}: points (kernels x n x re x alpha)"),
+            points,
+        )?;
         for key in [
             "kernel",
             "n_layers",
@@ -167,8 +184,15 @@ pub struct Point {
 }
 
 /// Run every point of `config` (in parallel; each run on one thread),
-/// ticking `bar` per point; `stop` ends it with an error.
-pub fn run(config: &Config, stop: &AtomicBool, bar: &ProgressBar) -> Result<Vec<Point>> {
+/// ticking `bar` per point.
+pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
+    run_until(config, bar, &AtomicBool::new(false))
+}
+
+/// [`run`], starting no point once `stop` is set (a signal): the points
+/// finished by then, in order. The points run one after another, each
+/// engine's runs across the cores, so a stop keeps every point finished.
+pub fn run_until(config: &Config, bar: &ProgressBar, stop: &AtomicBool) -> Result<Vec<Point>> {
     let search = config.search();
     let keys = config.points();
     // every scene valid before the first run
@@ -183,15 +207,23 @@ pub fn run(config: &Config, stop: &AtomicBool, bar: &ProgressBar) -> Result<Vec<
         })
         .collect::<Result<Vec<Scene>>>()?;
     bar.set_length(keys.len() as u64);
-    let points: Vec<Result<Point>> = keys
-        .par_iter()
-        .zip(scenes.par_iter())
+    let points: Vec<Result<Option<Point>>> = keys
+        .iter()
+        .zip(scenes.iter())
         .map(|((kernel, n, re, alpha), scene)| {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                return Ok(None);
+            }
             let extras = Extras {
                 law_ladder: true,
                 ..Extras::default()
             };
-            let a = answer(scene, &search, extras, stop, &ProgressBar::hidden())?;
+            let a = match answer(scene, &search, extras, stop, &ProgressBar::hidden()) {
+                // Stopped while it ran: its runs were cut short, so the
+                // point is not kept.
+                Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => return Ok(None),
+                r => r?,
+            };
             let info = scene.kernel_info()?;
             let channel = Channel::resolve(scene, info)?;
             let u = channel.flow.u;
@@ -202,7 +234,7 @@ pub fn run(config: &Config, stop: &AtomicBool, bar: &ProgressBar) -> Result<Vec<
                 rules.push((name, c0 / u));
             }
             bar.inc(1);
-            Ok(Point {
+            Ok(Some(Point {
                 kernel: kernel.clone(),
                 n: *n,
                 re: *re,
@@ -221,10 +253,15 @@ pub fn run(config: &Config, stop: &AtomicBool, bar: &ProgressBar) -> Result<Vec<
                 rules,
                 trials: a.trials.len(),
                 run_s: a.trials.iter().map(|t| t.wall_s()).sum(),
-            })
+            }))
         })
         .collect();
-    points.into_iter().collect()
+    Ok(points
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect())
 }
 
 /// Every point as CSV: its c0_min, bracket, regime and every rule's c0 / U.

@@ -30,14 +30,54 @@ fn serial() -> u64 {
     SERIAL.fetch_add(1, Ordering::Relaxed)
 }
 
+/// The prefix of a staging folder's name; the rest is `PID-SERIAL`.
+const STAGING_PREFIX: &str = ".shearsph-staging-";
+
+/// Remove the staging folders in `dir` that no live process owns: left by
+/// a run killed (SIGKILL, a crash, a power cut) before its set was swapped
+/// in. Each is ours by its name, and its owner holds a lock on it while it
+/// lives ([`StagedSet::begin`]); one whose lock is free and whose process
+/// (the PID in its name) is gone is stale. Returns how many were removed.
+pub fn remove_stale_staging(dir: &Path) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(STAGING_PREFIX) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        let path = e.path();
+        let is_dir = path.symlink_metadata().is_ok_and(|m| m.is_dir());
+        // Ours (another StagedSet of this process) or a live process's:
+        // left alone, even in the instant before its owner locks it.
+        if !is_dir || pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists() {
+            continue;
+        }
+        let Ok(f) = std::fs::File::open(&path) else {
+            continue;
+        };
+        if f.try_lock().is_ok() && std::fs::remove_dir_all(&path).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Make sure `dir` can take a run's outputs: create it, or refuse when it
-/// exists with files in it and `force` is not set. Call before running, so a
-/// refused folder costs nothing.
+/// exists with files in it and `force` is not set (stale staging folders,
+/// [`remove_stale_staging`], are removed first and do not count). Call
+/// before running, so a refused folder costs nothing.
 pub fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
     if dir.exists() {
         if !dir.is_dir() {
             bail!("output path {} exists and is not a folder", dir.display());
         }
+        remove_stale_staging(dir);
         let non_empty = std::fs::read_dir(dir)
             .with_context(|| format!("reading output folder {}", dir.display()))?
             .next()
@@ -102,21 +142,37 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 pub struct StagedSet {
     dir: PathBuf,
     stage: PathBuf,
+    /// The staging folder, locked while this set lives: what tells a later
+    /// run it is not stale.
+    _lock: std::fs::File,
 }
 
 impl StagedSet {
-    /// Start a set for `dir`, which must exist (see [`prepare_dir`]).
+    /// Start a set for `dir`, which must exist (see [`prepare_dir`]); stale
+    /// staging folders of dead runs are removed first.
     pub fn begin(dir: &Path) -> Result<StagedSet> {
+        remove_stale_staging(dir);
         let stage = dir.join(format!(
-            ".shearsph-staging-{}-{}",
+            "{STAGING_PREFIX}{}-{}",
             std::process::id(),
             serial()
         ));
         std::fs::create_dir(&stage)
             .with_context(|| format!("creating the staging folder {}", stage.display()))?;
+        let lock = std::fs::File::open(&stage)
+            .and_then(|f| f.try_lock().map(|()| f).map_err(std::io::Error::other))
+            .with_context(|| format!("locking the staging folder {}", stage.display()));
+        let lock = match lock {
+            Ok(l) => l,
+            Err(e) => {
+                let _ = std::fs::remove_dir(&stage);
+                return Err(e);
+            }
+        };
         Ok(StagedSet {
             dir: dir.to_path_buf(),
             stage,
+            _lock: lock,
         })
     }
 
@@ -324,6 +380,29 @@ mod tests {
         assert_eq!(got[3].1, "the user's");
         // Nothing left but the set and the user's file.
         assert_eq!(std::fs::read_dir(d).unwrap().count(), 4);
+    }
+
+    #[test]
+    fn a_dead_runs_staging_is_removed_and_a_live_ones_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // A killed run's: a PID no process has (above the kernel's limit).
+        let dead = d.join(format!("{STAGING_PREFIX}4294967295-0"));
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::write(dead.join("summary.json"), "{}").unwrap();
+        // A live one (this process's own set) and the user's folder.
+        let live = StagedSet::begin(d).unwrap();
+        assert!(!dead.exists(), "begin removes a dead run's staging");
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::create_dir(d.join("mine")).unwrap();
+        assert_eq!(remove_stale_staging(d), 1);
+        assert!(live.path().exists() && d.join("mine").exists());
+        // Only stale staging in a folder: it is empty for prepare_dir.
+        drop(live);
+        let only = tempfile::tempdir().unwrap();
+        std::fs::create_dir(only.path().join(format!("{STAGING_PREFIX}4294967295-7"))).unwrap();
+        prepare_dir(only.path(), false).unwrap();
+        assert_eq!(std::fs::read_dir(only.path()).unwrap().count(), 0);
     }
 
     #[test]

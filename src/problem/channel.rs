@@ -33,6 +33,32 @@ fn disordered_columns(scene: &Scene, lattice: &Lattice) -> Option<u32> {
     (wide && channel > f64::from(lattice.columns) && channel <= 1e5).then_some(channel as u32)
 }
 
+/// Err unless the support R h reaches a particle's nearest neighbours on
+/// the lattice (at d on either lattice: in the row, and diagonally on the
+/// triangular one) and so at least one wall layer: below, no particle sees
+/// another, the density is its own, there are no walls and no shear. Named
+/// as `h_over_d`, the field that makes the reach.
+pub fn check_interacts(lattice: &Lattice, info: &KernelInfo) -> Result<(), SceneError> {
+    let reach = info.support * lattice.h * (1.0 + CLOSED_TOL);
+    if reach >= lattice.d && lattice.wall_layers >= 1 {
+        return Ok(());
+    }
+    Err(invalid(
+        "h_over_d",
+        format!(
+            "h = {} d gives kernel {} (support R = {}) a reach of {} d, short of the nearest \
+             neighbours at d: no particle would see another and the channel has {} wall layers; \
+             give h_over_d >= {} (a discretisation of kernels/discretisations.toml with R h >= d)",
+            fmt_value(lattice.h / lattice.d),
+            info.name,
+            fmt_value(info.support),
+            fmt_value(info.support * lattice.h / lattice.d),
+            lattice.wall_layers,
+            fmt_value(1.0 / info.support)
+        ),
+    ))
+}
+
 impl Channel {
     /// Check the fields the channel reads and build it. The skin is checked
     /// here because its range is the kernel's support.
@@ -85,6 +111,10 @@ impl Channel {
                 ));
             }
         }
+        // The method needs neighbours and walls: a support that reaches no
+        // other site (h = 0.1 d with R = 2: 0.2 d, the nearest at d) leaves
+        // every particle alone and the channel without wall layers.
+        check_interacts(&lattice, info)?;
         // The centre line's support must not reach the wall (closed support).
         let n_min = (support * h * (1.0 + CLOSED_TOL) / lattice.dy).floor() as u32 + 1;
         if scene.n_layers < n_min {
@@ -180,5 +210,35 @@ impl Channel {
     pub fn a_param(&self) -> f64 {
         let n = f64::from(self.lattice.n_layers);
         self.flow.p * self.lattice.d * n.powi(4) / (self.flow.u * self.flow.u)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::Lattice as Kind;
+
+    #[test]
+    fn a_support_that_reaches_no_neighbour_is_refused() {
+        // h = 1/10 d (a discretisation a user could generate): R h = 0.2 d
+        // for the cubic spline, short of the nearest site at d.
+        let info = crate::config::kernel_info("monaghan").unwrap();
+        for kind in [Kind::Triangular, Kind::Square] {
+            let thin = Lattice::new(kind, 10, 1.0, 0.1, info.support);
+            let e = check_interacts(&thin, info).unwrap_err().to_string();
+            assert!(
+                e.contains("`h_over_d`") && e.contains("no particle would see another"),
+                "{e}"
+            );
+            assert!(
+                e.contains("0 wall layers") && e.contains("h_over_d >= 0.5"),
+                "{e}"
+            );
+            // The paper's h = d, and R h = d exactly (closed support), pass.
+            let paper = Lattice::new(kind, 10, 1.0, 1.0, info.support);
+            assert!(check_interacts(&paper, info).is_ok());
+            let edge = Lattice::new(kind, 10, 1.0, 0.5, info.support);
+            assert!(check_interacts(&edge, info).is_ok(), "{kind:?}");
+        }
     }
 }

@@ -320,7 +320,7 @@ pub fn check_run_time(
 }
 
 /// "3.2 s", "1.5 h", "2.1 days".
-fn human_seconds(s: f64) -> String {
+pub fn human_seconds(s: f64) -> String {
     if s < 120.0 {
         format!("{s:.1} s")
     } else if s < 7200.0 {

@@ -130,7 +130,8 @@ impl Problem {
             c0,
             t_end,
             scene.max_run_s,
-        )?;
+        )
+        .map_err(|e| blame_run_time(e, scene, &channel, c0, t_end, info.support))?;
         let output_interval = match (scene.output_interval, horizon.kind) {
             (Some(dt), _) => {
                 positive("output_interval", dt)?;
@@ -251,6 +252,50 @@ impl Problem {
         Problem::resolve(&scene, info)
     }
 
+    /// A run to t_end must take at least one time step (the starting one,
+    /// [`cost::Estimate`]): a shorter t_end covers no flow (t_end = 1e-300
+    /// moves no particle by one bit), and its "ok" would say nothing. Err
+    /// naming `t_end`, or `decay_tol` when t_end is the start-up's decay
+    /// time. Asked by every run to t_end (`run`, a sweep's points, the
+    /// searches), not by a bench's fixed number of steps.
+    pub fn check_duration(&self) -> Result<(), SceneError> {
+        let est = cost::Estimate::new(&self.channel(), self.c0, self.t_end);
+        let dt = est.time_step.dt;
+        if self.t_end >= dt {
+            return Ok(());
+        }
+        let (field, given) = match self.scene.t_end {
+            Some(_) => ("t_end", String::new()),
+            None => (
+                "decay_tol",
+                format!(
+                    " (the start-up's decay time to decay_tol = {}; a smaller decay_tol runs longer)",
+                    fmt_value(self.scene.decay_tol)
+                ),
+            ),
+        };
+        Err(invalid(
+            field,
+            format!(
+                "t_end = {}{given} is shorter than one time step, dt = {} (the {} limit at c0 = {}): \
+                 the run would cover no flow; give t_end >= {} (or leave t_end out: the start-up's \
+                 decay time)",
+                match self.scene.t_end {
+                    Some(t) => fmt_value(t),
+                    None => crate::format::fmt_num(self.t_end),
+                },
+                crate::format::fmt_num(dt),
+                est.time_step.limit.name(),
+                crate::format::fmt_num(self.c0),
+                // dt rounded up at 3 digits: the value suggested passes
+                crate::format::fmt_num({
+                    let unit = 10f64.powf(dt.log10().floor() - 2.0);
+                    (dt / unit).ceil() * unit
+                })
+            ),
+        ))
+    }
+
     /// The problem's channel: its lattice and flow.
     pub fn channel(&self) -> Channel {
         Channel {
@@ -361,6 +406,97 @@ fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &Lattice) -> f64 {
         }
     }
     kernels::with_kernel(info.name, Sum(lattice)).unwrap_or(f64::NAN)
+}
+
+/// A run estimated to take more than a year on one core: no bound anyone
+/// would raise `max_run_s` to, so the input that made it that long is
+/// named instead (see [`blame_run_time`]).
+pub const IMPLAUSIBLE_RUN_S: f64 = 365.25 * 86400.0;
+
+/// The run-time guard's error `e`, naming the input that made the run too
+/// long when no plausible bound would let it run: above
+/// [`IMPLAUSIBLE_RUN_S`], of the inputs the scene set that the estimate
+/// grows with (t_end, c0, n_layers, re or p, u, d, h_over_d, skin), the one
+/// farthest from its built-in default (t_end from the start-up's decay
+/// time, c0 from 10 U), if at least ten times off it. Otherwise (a run of
+/// days: raise the bound, or shorten it) `e` as it is, naming `max_run_s`.
+fn blame_run_time(
+    e: SceneError,
+    scene: &Scene,
+    channel: &Channel,
+    c0: f64,
+    t_end: f64,
+    support: f64,
+) -> SceneError {
+    let est = cost::Estimate::new(channel, c0, t_end).seconds(channel, support, scene.skin);
+    if est <= IMPLAUSIBLE_RUN_S {
+        return e;
+    }
+    let builtin = Scene::builtin();
+    let mut candidates: Vec<(&'static str, f64)> = Vec::new();
+    if let Some(t) = scene.t_end {
+        candidates.push(("t_end", t / channel.flow.decay_time(builtin.decay_tol)));
+    }
+    match scene.c0 {
+        C0Spec::Value(v) => candidates.push(("c0", v / (10.0 * scene.u))),
+        C0Spec::Rule { factor, .. } => candidates.push(("c0", factor)),
+    }
+    candidates.push((
+        "n_layers",
+        f64::from(scene.n_layers) / f64::from(builtin.n_layers),
+    ));
+    match (scene.re, scene.p) {
+        (Some(re), _) => candidates.push(("re", re / builtin.re.unwrap_or(10.0))),
+        (None, Some(p)) => candidates.push(("p", p / channel.flow.p.max(f64::MIN_POSITIVE))),
+        _ => {}
+    }
+    for (field, v, d) in [
+        ("u", scene.u, builtin.u),
+        ("d", scene.d, builtin.d),
+        ("h_over_d", scene.h_over_d, builtin.h_over_d),
+        ("skin", scene.skin, builtin.skin),
+    ] {
+        candidates.push((field, v / d));
+    }
+    let off = |r: f64| {
+        if r > 0.0 && r.is_finite() {
+            r.ln().abs()
+        } else {
+            0.0
+        }
+    };
+    let Some((field, ratio)) = candidates
+        .into_iter()
+        .filter(|(_, r)| off(*r) >= 10f64.ln())
+        .max_by(|a, b| off(a.1).total_cmp(&off(b.1)))
+    else {
+        return e;
+    };
+    let value = match field {
+        "t_end" => t_end,
+        "c0" => c0,
+        "n_layers" => f64::from(scene.n_layers),
+        "re" => scene.re.unwrap_or(f64::NAN),
+        "p" => scene.p.unwrap_or(f64::NAN),
+        "u" => scene.u,
+        "d" => scene.d,
+        "h_over_d" => scene.h_over_d,
+        _ => scene.skin,
+    };
+    let message = match &e {
+        SceneError::Invalid { message, .. } => message.clone(),
+        other => other.to_string(),
+    };
+    invalid(
+        field,
+        format!(
+            "{} (the input farthest from its default, {:.0e} times it) makes the run far too long \
+             for any bound: {}; bring {field} nearer its default",
+            fmt_value(value),
+            ratio,
+            message.split("; raise it").next().unwrap_or(&message)
+        ),
+    )
 }
 
 /// `a` and then those of `b` not in it: the inputs of a quantity derived

@@ -355,7 +355,11 @@ fn at_run(t: &Trial, regime: Regime) -> AtRun {
 /// A row's class with its reason or figures, in a few words.
 pub fn row_reason(r: &crate::sweep::Row) -> String {
     match r.class {
-        Class::Failed => format!("failed: {}", r.failure_reason.clone().unwrap_or_default()),
+        Class::Failed | Class::Interrupted => format!(
+            "{}: {}",
+            r.class,
+            r.failure_reason.clone().unwrap_or_default()
+        ),
         Class::OverCompressed => format!(
             "over-compressed: eps_stat {} above {}",
             fmt(r.eps_stat),
@@ -377,7 +381,7 @@ fn reason(t: &Trial, regime: Regime) -> String {
         Regime::Disordered => t.pooled.as_ref().and_then(|p| p.failure.clone()),
     };
     match a.class {
-        Class::Failed => format!("failed: {}", failure.unwrap_or_default()),
+        Class::Failed | Class::Interrupted => format!("failed: {}", failure.unwrap_or_default()),
         Class::OverCompressed => format!("over-compressed: eps_stat {}", fmt(a.eps_stat)),
         Class::Inaccurate => format!(
             "inaccurate: mean-flow error {} % of U",

@@ -198,6 +198,67 @@ impl Config {
         if self.figure4.samples < 2 {
             bail!("figure4.samples must be at least 2");
         }
+        self.check_counts()
+    }
+
+    /// Every count of the config within its bound and no list giving a
+    /// value twice, as a sweep's grid, before any scene runs (a `maps.n =
+    /// 0` would otherwise surface after the whole grid): each N a lattice
+    /// the memory bound holds for every kernel, the seeds and the
+    /// bisection's extensions bounded.
+    fn check_counts(&self) -> Result<()> {
+        use crate::config::bounds::{self, distinct, Count};
+        distinct("kernels", &self.kernels)?;
+        distinct("speed.n", &self.speed.n)?;
+        distinct("speed.re", &self.speed.re)?;
+        distinct("speed.c0", &self.speed.c0)?;
+        distinct("maps.re", &self.maps.re)?;
+        distinct("maps.c0_over_u", &self.maps.c0_over_u)?;
+        distinct("empirical.re", &self.empirical.re)?;
+        distinct("perturbed.re", &self.perturbed.re)?;
+        distinct("square.re", &self.square.re)?;
+        bounds::SEEDS.check("perturbed.seeds", self.perturbed.seeds.into())?;
+        Count {
+            min: 0,
+            max: 100,
+            why_min: "",
+            why_max: "each extension divides the map's lowest c0 by 3: 100 reach 2e-48 of it, below any c0 a run can take",
+        }
+        .check("empirical.max_extend", self.empirical.max_extend.unwrap_or(0).into())?;
+        Count {
+            min: 2,
+            max: 1_000_000,
+            why_min: "a curve needs two points",
+            why_max:
+                "points of each curve of Figure 4: a million already make an SVG of tens of MB",
+        }
+        .check_usize("figure4.samples", self.figure4.samples)?;
+        let ns = self
+            .speed
+            .n
+            .iter()
+            .map(|&n| ("speed.n", n))
+            .chain([("maps.n", self.maps.n), ("figure4.n", self.figure4.n)]);
+        for (field, n) in ns {
+            if n == 0 {
+                bail!("{field} = 0 is not a number of layers; give N >= 1");
+            }
+            for info in self.kernel_infos() {
+                let mut over = self.scene.clone();
+                over.insert("kernel".into(), toml::Value::String(info.name.into()));
+                over.insert("n_layers".into(), toml::Value::Integer(n.into()));
+                let Ok(scene) = crate::config::Scene::load(None, over) else {
+                    continue;
+                };
+                // The lattice's own guards (too small for the support, or
+                // more particles than the memory bound holds).
+                if let Err(e) = crate::problem::channel::Channel::resolve(&scene, info) {
+                    if e.field() == Some("n_layers") {
+                        bail!("{field} = {n}, kernel {}: {e}", info.name);
+                    }
+                }
+            }
+        }
         Ok(())
     }
 

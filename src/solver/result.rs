@@ -269,9 +269,9 @@ impl RunResult {
         rules.eps_bound(self.problem.discretisation)
     }
 
-    /// The run's class under `rules`: `failed` when the run failed (or was
-    /// stopped), else by its window's mean-flow error and compaction, see
-    /// [`classify`].
+    /// The run's class under `rules`: `failed` when the run failed,
+    /// `interrupted` when it was stopped before its end (no verdict), else
+    /// by its window's mean-flow error and compaction, see [`classify`].
     pub fn class(&self, rules: &ClassRules) -> Class {
         match self.outcome {
             Outcome::Ok => classify(
@@ -280,7 +280,8 @@ impl RunResult {
                 rules.linf_bound,
                 self.eps_bound(rules),
             ),
-            Outcome::Failed { .. } | Outcome::Interrupted { .. } => Class::Failed,
+            Outcome::Failed { .. } => Class::Failed,
+            Outcome::Interrupted { .. } => Class::Interrupted,
         }
     }
 
@@ -312,9 +313,12 @@ pub enum Class {
     Inaccurate,
     OverCompressed,
     Failed,
+    /// Stopped before t_end (a signal): no verdict. Never a stored row.
+    Interrupted,
 }
 
 impl Class {
+    /// The classes of a run that ended (every verdict; not `Interrupted`).
     pub const ALL: [Class; 4] = [
         Class::Ok,
         Class::Inaccurate,
@@ -327,11 +331,15 @@ impl Class {
             Class::Inaccurate => "inaccurate",
             Class::OverCompressed => "over-compressed",
             Class::Failed => "failed",
+            Class::Interrupted => "interrupted",
         }
     }
     /// Parse a class name as written in rows.
     pub fn parse(s: &str) -> Option<Class> {
-        Class::ALL.into_iter().find(|c| c.name() == s)
+        Class::ALL
+            .into_iter()
+            .chain([Class::Interrupted])
+            .find(|c| c.name() == s)
     }
 }
 

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::axes::{At, Discretisation, HOverD, HOverDValue, Start};
 use super::ClassRules;
+use crate::config::bounds::{self, distinct};
 use crate::config::{C0Spec, Scene, SceneError};
 use crate::kernel::Lattice;
 use crate::kernels;
@@ -199,6 +200,73 @@ fn default_seeds() -> u32 {
     3
 }
 
+/// Where a sweep's values came from, to name them in an error: a flag,
+/// the sweep file, the `--scene` file, the default. The default names
+/// each field as the sweep's, with its flag.
+pub trait Origins {
+    /// The grid's field `field` (`n`, `seeds`, `classes.linf_bound`).
+    fn grid(&self, field: &str) -> String {
+        format!("sweep field `{field}` (flag --{})", grid_flag(field))
+    }
+    /// The base scene's field `field` (`t_end`, `gamma`).
+    fn scene(&self, field: &str) -> String {
+        format!("sweep field `scene.{field}`")
+    }
+    /// The base scene as a whole.
+    fn scene_table(&self) -> String {
+        "sweep field `scene`".into()
+    }
+}
+
+/// The flag of a grid field.
+pub fn grid_flag(field: &str) -> String {
+    match field {
+        "kernels" => "kernel".into(),
+        "classes.linf_bound" => "linf-bound".into(),
+        "classes.eps_margin" => "eps-margin".into(),
+        f => f.replace('_', "-"),
+    }
+}
+
+/// Fields named as the sweep's own (see [`Origins`]).
+pub struct Unlabelled;
+impl Origins for Unlabelled {}
+
+/// The grid field a scene field of a point comes from (`n_layers` from
+/// `n`), or `None` for the base scene's own.
+pub fn grid_field_of(scene_field: &str) -> Option<&'static str> {
+    Some(match scene_field {
+        "kernel" => "kernels",
+        "n_layers" => "n",
+        "re" | "p" => "re",
+        "alpha" => "alpha",
+        "c0" => "c0",
+        "lattice" => "lattice",
+        "h_over_d" => "h_over_d",
+        "jitter" => "jitter",
+        "jitter_seed" => "seeds",
+        "linf_bound" => "classes.linf_bound",
+        "eps_margin" => "classes.eps_margin",
+        _ => return None,
+    })
+}
+
+/// A scene's error (a point's, or the base scene's) naming its field where
+/// it came from: a grid axis (`n_layers` from the grid's `n`) or the base
+/// scene.
+pub fn label_scene(e: SceneError, origins: &dyn Origins) -> SceneError {
+    match e.field() {
+        Some(f) => {
+            let origin = match grid_field_of(f) {
+                Some(g) => origins.grid(g),
+                None => origins.scene(f),
+            };
+            e.from_origin(origin)
+        }
+        None => e,
+    }
+}
+
 /// The exact h/d a value names: its own exact text, or the generated h/d
 /// of any kernel it equals to 1e-12 (the scene's lookup).
 fn exact_h_over_d(v: &HOverDValue) -> Option<HOverD> {
@@ -233,24 +301,49 @@ impl SweepSpec {
 
     /// Fill the defaults (every kernel; derived, rule10 and table2 when no
     /// c0 is given) and check every value, so that the stored form is
-    /// complete and a bad grid fails before anything runs.
-    pub fn resolved(mut self) -> Result<SweepSpec> {
+    /// complete and a bad grid fails before anything runs. Errors name each
+    /// field as `sweep field `n` (flag --n)`; see [`SweepSpec::resolved_as`].
+    pub fn resolved(self) -> Result<SweepSpec> {
+        self.resolved_as(&Unlabelled)
+    }
+
+    /// [`SweepSpec::resolved`], naming each field where `origins` says it
+    /// came from (a flag, the sweep file, the default).
+    pub fn resolved_as(mut self, origins: &dyn Origins) -> Result<SweepSpec> {
         if self.kernels.is_empty() {
             self.kernels = kernels::NAMES.iter().map(|s| s.to_string()).collect();
         }
         if self.c0.is_empty() && self.c0_over_u.is_empty() {
             self.c0 = vec!["derived".into(), "rule10".into(), "table2".into()];
         }
+        let name = |field: &str| origins.grid(field);
         for k in &self.kernels {
-            crate::config::kernel_info(k)?;
+            crate::config::kernel_info(k).with_context(|| name("kernels"))?;
         }
         for c in &self.c0 {
-            c.parse::<C0Spec>()
-                .map_err(|e| anyhow::anyhow!("sweep field `c0`: {e}"))?;
+            let spec = c
+                .parse::<C0Spec>()
+                .map_err(|e| anyhow::anyhow!("{}: {e}", name("c0")))?;
+            // The solver's own search is not a rule a point can take: it is
+            // many runs per point (`c0 --empirical`), and each point's row
+            // would be its bisection's, not one run's.
+            if let C0Spec::Rule {
+                rule: crate::config::C0Rule::Empirical,
+                ..
+            } = spec
+            {
+                bail!(
+                    "{}: {c:?} is the solver's own search (shearsph c0 --empirical: a bisection of \
+                     many runs), not a c0 a grid point can run at; find it per scene with \
+                     `shearsph c0 --empirical` (or `shearsph law` over N x Re x alpha) and grid \
+                     the numbers it gives",
+                    name("c0")
+                );
+            }
         }
         let check = |field: &str, empty: bool| -> Result<()> {
             if empty {
-                bail!("sweep field `{field}` is empty: give at least one value");
+                bail!("{} is empty: give at least one value", name(field));
             }
             Ok(())
         };
@@ -262,40 +355,34 @@ impl SweepSpec {
         check("jitter", self.jitter.is_empty())?;
         for (field, values) in [("re", &self.re), ("c0_over_u", &self.c0_over_u)] {
             if let Some(v) = values.iter().find(|v| !(**v > 0.0 && v.is_finite())) {
-                bail!("sweep field `{field}`: {v} must be a positive number");
+                bail!("{}: {v} must be a positive number", name(field));
             }
         }
         for &v in &self.alpha {
-            crate::config::check_alpha(v)
-                .map_err(|e| anyhow::anyhow!("sweep field `alpha`: {e}"))?;
+            crate::config::check_alpha(v).map_err(|e| anyhow::anyhow!("{}: {e}", name("alpha")))?;
         }
         if self.n.contains(&0) {
-            bail!("sweep field `n` (flag --n): 0 is not a number of layers; give N >= 1");
+            bail!("{}: 0 is not a number of layers; give N >= 1", name("n"));
         }
-        self.resolve_discretisations()?;
-        self.check_by_scene()?;
         // A repeated value would run (and count) one point twice: an error,
         // for every list alike.
-        fn dup<T: PartialEq + std::fmt::Debug>(field: &str, v: &[T]) -> Result<()> {
-            for (i, a) in v.iter().enumerate() {
-                if v[..i].contains(a) {
-                    bail!(
-                        "sweep field `{field}` (flag --{}) gives {a:?} twice: give each value once",
-                        field.replace('_', "-")
-                    );
-                }
-            }
-            Ok(())
+        distinct(&name("kernels"), &self.kernels)?;
+        distinct(&name("n"), &self.n)?;
+        distinct(&name("re"), &self.re)?;
+        distinct(&name("alpha"), &self.alpha)?;
+        distinct(&name("c0"), &self.c0)?;
+        distinct(&name("c0_over_u"), &self.c0_over_u)?;
+        distinct(&name("lattice"), &self.lattice)?;
+        distinct(&name("jitter"), &self.jitter)?;
+        if self.jitter.iter().any(|&a| a != 0.0) {
+            bounds::SEEDS.check(&name("seeds"), self.seeds.into())?;
         }
-        dup("kernels", &self.kernels)?;
-        dup("n", &self.n)?;
-        dup("re", &self.re)?;
-        dup("alpha", &self.alpha)?;
-        dup("c0", &self.c0)?;
-        dup("c0_over_u", &self.c0_over_u)?;
-        dup("lattice", &self.lattice)?;
-        dup("h_over_d", &self.h_over_d)?;
-        dup("jitter", &self.jitter)?;
+        // The grid's size before the grid is built: a count of 1e9 points
+        // is an error now, not gigabytes of points later.
+        bounds::POINTS.check(
+            "the grid's points (kernels x lattice x h_over_d x n x re x alpha x starts x c0)",
+            self.point_count(),
+        )?;
         for (key, instead) in [
             ("kernel", "kernels"),
             ("n_layers", "n"),
@@ -312,33 +399,60 @@ impl SweepSpec {
         ] {
             if self.scene.contains_key(key) {
                 bail!(
-                    "sweep field `scene.{key}`: the grid sets it; give it as the grid's own \
-                     `{instead}` instead"
+                    "{}: the grid sets it; give it as the grid's own `{instead}` instead",
+                    origins.scene(key)
                 );
             }
         }
-        // The base scene must be a valid scene by itself.
-        Scene::load(None, self.scene.clone())
-            .context("sweep field `scene` does not make a valid scene")?;
+        // The base scene must be a valid scene by itself: its own fields
+        // first, each named, before any value of the grid is laid over it.
+        let base = Scene::load(None, self.scene.clone())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", origins.scene_table()))?;
+        crate::problem::check_fields(&base).map_err(|e| label_scene(e, origins))?;
+        self.resolve_discretisations(origins)?;
+        distinct(&name("h_over_d"), &self.h_over_d)?;
+        self.check_by_scene(&base, origins)?;
         Ok(self)
+    }
+
+    /// The number of points [`SweepSpec::points`] gives, without building
+    /// them (saturating: a grid too large to count is too large).
+    pub fn point_count(&self) -> u64 {
+        let c0s = (self.c0.len() + self.c0_over_u.len()) as u64;
+        let starts: u64 = self
+            .jitter
+            .iter()
+            .map(|&a| if a == 0.0 { 1 } else { u64::from(self.seeds) })
+            .fold(0u64, u64::saturating_add);
+        [
+            self.kernels.len() as u64,
+            self.lattice.len() as u64,
+            self.h_over_d.len() as u64,
+            self.n.len() as u64,
+            self.re.len() as u64,
+            self.alpha.len() as u64,
+            starts,
+            c0s,
+        ]
+        .into_iter()
+        .fold(1u64, u64::saturating_mul)
     }
 
     /// Each h/d as the generated exact text, after checking that every
     /// kernel has every lattice x h/d pair (else the scene's own error,
     /// naming the line to add and the command to run).
-    fn resolve_discretisations(&mut self) -> Result<()> {
+    fn resolve_discretisations(&mut self, origins: &dyn Origins) -> Result<()> {
         for v in &mut self.h_over_d {
             let x = match v {
                 HOverDValue::Number(x) => *x,
-                HOverDValue::Text(t) => crate::config::parse_h_over_d(t).map_err(|e| {
-                    anyhow::anyhow!("sweep field `h_over_d` (flag --h-over-d): {e}")
-                })?,
+                HOverDValue::Text(t) => crate::config::parse_h_over_d(t)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", origins.grid("h_over_d")))?,
             };
             for k in &self.kernels {
                 let info = crate::config::kernel_info(k)?;
                 for &lattice in &self.lattice {
                     let d = crate::config::discretisation(info, lattice, x)
-                        .with_context(|| format!("sweep field `h_over_d` = {v}"))?;
+                        .with_context(|| format!("{} = {v}", origins.grid("h_over_d")))?;
                     *v = HOverDValue::Text(d.h_over_d_exact.to_string());
                 }
             }
@@ -348,29 +462,24 @@ impl SweepSpec {
 
     /// The values the scene guards, by its own guards: the class bounds
     /// (they become the scene's `linf_bound` and `eps_margin`) and every
-    /// jitter amplitude; and seeds for the non-zero amplitudes.
-    fn check_by_scene(&self) -> Result<()> {
-        let base = Scene::load(None, self.scene.clone())
-            .context("sweep field `scene` does not make a valid scene")?;
+    /// jitter amplitude; and seeds for the non-zero amplitudes. `base` is
+    /// the base scene, its own fields already checked.
+    fn check_by_scene(&self, base: &Scene, origins: &dyn Origins) -> Result<()> {
         // The bounds are the scene's (`scene_classed`): its guards.
-        crate::problem::check_fields(&Scene {
-            linf_bound: self.classes.linf_bound,
-            eps_margin: self.classes.eps_margin,
-            ..base.clone()
-        })
-        .context("sweep field `classes`")?;
+        for (field, v) in [
+            ("linf_bound", self.classes.linf_bound),
+            ("eps_margin", self.classes.eps_margin),
+        ] {
+            crate::config::positive(field, v).map_err(|e| {
+                anyhow::anyhow!("{}: {e}", origins.grid(&format!("classes.{field}")))
+            })?;
+        }
         for &a in &self.jitter {
             crate::problem::check_fields(&Scene {
                 jitter: a,
                 ..base.clone()
             })
-            .context("sweep field `jitter`")?;
-        }
-        if self.seeds == 0 && self.jitter.iter().any(|&a| a != 0.0) {
-            bail!(
-                "sweep field `seeds` (flag --seeds): 0 seeds give a non-zero jitter no start; \
-                 give at least 1 (3 by default)"
-            );
+            .map_err(|e| anyhow::anyhow!("{}: {e}", origins.grid("jitter")))?;
         }
         Ok(())
     }
@@ -558,7 +667,7 @@ mod tests {
                     lattice: vec![],
                     ..SweepSpec::default()
                 },
-                "`lattice` is empty",
+                "`lattice` (flag --lattice) is empty",
             ),
             (
                 SweepSpec {

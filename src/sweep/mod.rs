@@ -26,9 +26,9 @@ pub mod store;
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
 pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
-pub use grid::{Point, PointC0, SweepSpec};
+pub use grid::{grid_flag, label_scene, Origins, Point, PointC0, SweepSpec, Unlabelled};
 pub use row::{pool_over_seeds, pool_rows, OverSeeds, Row};
-pub use shard::Shard;
+pub use shard::{Shard, ShardArg};
 
 use std::collections::BTreeSet;
 use std::panic::{self, AssertUnwindSafe};
@@ -349,10 +349,15 @@ pub fn run_points_with(
     on_row: &(dyn Fn(&Row) + Sync),
     particles: Option<ParticleDump>,
 ) -> Result<(Vec<Row>, bool)> {
-    let mut todo: Vec<(f64, &Point)> = points
-        .iter()
-        .map(|p| (estimated_cost(p, base), p))
-        .collect();
+    // Stopped while scheduling: nothing has started (a large grid takes
+    // a moment to cost).
+    let mut todo: Vec<(f64, &Point)> = Vec::with_capacity(points.len());
+    for p in points {
+        if stop.load(Ordering::Relaxed) {
+            return Ok((Vec::new(), true));
+        }
+        todo.push((estimated_cost(p, base), p));
+    }
     todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.index.cmp(&b.1.index)));
     let todo: Vec<&Point> = todo.into_iter().map(|t| t.1).collect();
     let results = par.map(
@@ -367,6 +372,67 @@ pub fn run_points_with(
     Ok((rows, finished < todo.len()))
 }
 
+/// Every point's scene resolved before anything runs (the base scene with
+/// the point's values), so that bad input is an error before the grid,
+/// not a grid of failed rows: a point whose scene is invalid (a field out
+/// of its range, a run that would take too long or too much memory, one
+/// shorter than a time step) is refused, naming the first such point, how
+/// many share its fault, the field and where `origins` says it came from.
+/// A c0 rule that has no c0 at a point is not bad input but that point's
+/// finding: its row says so. Checks `stop` as it goes (an interrupted check
+/// is Ok: nothing has run).
+pub fn check_points(
+    points: &[&Point],
+    base: &toml::Table,
+    rules: &ClassRules,
+    origins: &dyn Origins,
+    stop: &AtomicBool,
+) -> Result<()> {
+    let mut first: Option<(String, SceneError)> = None;
+    let mut more = 0usize;
+    for p in points {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        let Err(e) = check_point(p, base, rules) else {
+            continue;
+        };
+        match &first {
+            None => first = Some((p.id(), e)),
+            Some((_, f)) if f.field() == e.field() => more += 1,
+            Some(_) => {}
+        }
+    }
+    let Some((id, e)) = first else {
+        return Ok(());
+    };
+    let others = if more > 0 {
+        format!(
+            " (and {more} more of the {} points with this field)",
+            points.len()
+        )
+    } else {
+        String::new()
+    };
+    Err(anyhow::Error::new(label_scene(e, origins)).context(format!(
+        "sweep point {id}{others} is not a valid scene; nothing was run"
+    )))
+}
+
+/// One point's scene checked as [`run_point`] will resolve it: Ok for a
+/// point that runs, or whose c0 rule has no c0 there (its row says so).
+fn check_point(point: &Point, base: &toml::Table, rules: &ClassRules) -> Result<(), SceneError> {
+    let scene = point.scene_classed(base, rules)?;
+    let info = scene.kernel_info()?;
+    match Problem::resolve(&scene, info) {
+        Ok(p) => p.check_duration(),
+        Err(SceneError::Invalid { field: "c0", .. }) if matches!(scene.c0, C0Spec::Rule { .. }) => {
+            Ok(())
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// What a sweep run did.
 #[derive(Debug)]
 pub struct SweepRun {
@@ -374,6 +440,8 @@ pub struct SweepRun {
     /// Every finished row in the folder, this run's and earlier ones', in
     /// grid order.
     pub rows: Vec<Row>,
+    /// The shard this run ran (given, or the folder's own).
+    pub shard: Option<Shard>,
     /// Points of this shard: finished now, finished before, still to run.
     pub ran: usize,
     pub already: usize,
@@ -397,33 +465,115 @@ pub fn run_sweep(
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
 ) -> Result<SweepRun> {
-    run_sweep_with(dir, spec, force, shard, par, stop, bar, watch, None)
+    run_sweep_with(
+        dir,
+        spec,
+        force,
+        shard.map(ShardArg::Fixed),
+        par,
+        stop,
+        bar,
+        watch,
+        &SweepExtras::default(),
+    )
 }
 
-/// [`run_sweep`], and with `particles_every` = K each point's particle
-/// snapshots (every K-th output time) and picture under `dir/particles/`.
+/// What [`run_sweep_with`] takes beyond [`run_sweep`]'s.
+#[derive(Default)]
+pub struct SweepExtras<'a> {
+    /// Each point's particle snapshots (every K-th output time) and picture
+    /// under `dir/particles/`.
+    pub particles_every: Option<u64>,
+    /// Where the grid's values came from, for its errors (default: named as
+    /// the sweep's fields).
+    pub origins: Option<&'a dyn Origins>,
+}
+
+/// [`run_sweep`], with `shard` as given (`auto` read from Slurm unless the
+/// folder records its shard, see [`ShardArg::resolve`]) and the
+/// [`SweepExtras`]. Under the folder's lock, before anything runs: the
+/// shard is settled (and recorded in the folder), and every point of it
+/// checked ([`check_points`]; a new grid before the folder is written).
 #[allow(clippy::too_many_arguments)]
 pub fn run_sweep_with(
     dir: &Path,
     spec: Option<SweepSpec>,
     force: bool,
-    shard: Option<Shard>,
+    shard: Option<ShardArg>,
     par: Parallel,
     stop: &AtomicBool,
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
-    particles_every: Option<u64>,
+    extras: &SweepExtras,
+) -> Result<SweepRun> {
+    // A sweep refused before it wrote anything leaves no folder behind:
+    // the one the lock created (empty, ours) is removed again.
+    let created = !dir.exists();
+    let r = sweep_in(dir, spec, force, shard, par, stop, bar, watch, extras);
+    if r.is_err() && created {
+        let empty = std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_none());
+        if empty {
+            let _ = std::fs::remove_dir(dir);
+        }
+    }
+    r
+}
+
+#[allow(clippy::too_many_arguments)]
+fn sweep_in(
+    dir: &Path,
+    spec: Option<SweepSpec>,
+    force: bool,
+    shard: Option<ShardArg>,
+    par: Parallel,
+    stop: &AtomicBool,
+    bar: &ProgressBar,
+    watch: &(dyn Fn(&Row) + Sync),
+    extras: &SweepExtras,
 ) -> Result<SweepRun> {
     let particles_root = dir.join("particles");
+    let origins = extras.origins.unwrap_or(&Unlabelled);
     // One sweep per folder at a time: the lock is held until this returns.
     let _lock = store::lock(dir)?;
+    // A start over forgets the folder's shard.
+    let recorded = if force || !dir.join(store::SPEC_FILE).exists() {
+        None
+    } else {
+        store::read_shard(dir)?
+    };
+    let (shard, note) = ShardArg::resolve(
+        shard,
+        recorded,
+        |v| std::env::var(v).ok(),
+        &dir.display().to_string(),
+    )
+    .map_err(anyhow::Error::msg)?;
+    if let Some(note) = note {
+        eprintln!("{note}");
+    }
+    let in_shard = |p: &Point| shard.is_none_or(|s| s.contains(p.index));
+    // A new grid is checked whole before the folder is written.
+    if let Some(spec) = &spec {
+        let points = spec.points();
+        let mine: Vec<&Point> = points.iter().filter(|p| in_shard(p)).collect();
+        check_points(&mine, &spec.scene, &spec.classes, origins, stop)?;
+    }
+    let checked = spec.is_some();
     let (spec, done) = store::open(dir, spec, force)?;
+    // A start over (`--force`) records the shard it runs, or none.
+    if force || recorded != shard {
+        store::write_shard(dir, shard)?;
+    }
     let done_ids: BTreeSet<String> = done.iter().map(|r| r.id.clone()).collect();
     let (already, todo): (Vec<Point>, Vec<Point>) = spec
         .points()
         .into_iter()
-        .filter(|p| shard.is_none_or(|s| s.contains(p.index)))
+        .filter(|p| in_shard(p))
         .partition(|p| done_ids.contains(&p.id()));
+    if !checked {
+        let todo: Vec<&Point> = todo.iter().collect();
+        check_points(&todo, &spec.scene, &spec.classes, origins, stop)?;
+    }
     bar.set_length(todo.len() as u64);
     let appender = store::Appender::open(dir)?;
     let append_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
@@ -434,7 +584,9 @@ pub fn run_sweep_with(
             stop.store(true, Ordering::Relaxed);
         }
         let mut c = counts.lock().unwrap();
-        c[row.class as usize] += 1;
+        if let Some(n) = c.get_mut(row.class as usize) {
+            *n += 1;
+        }
         bar.set_message(format!(
             "ok {} inaccurate {} over-compressed {} failed {}",
             c[0], c[1], c[2], c[3]
@@ -449,7 +601,7 @@ pub fn run_sweep_with(
         par,
         stop,
         &on_row,
-        particles_every.map(|every| ParticleDump {
+        extras.particles_every.map(|every| ParticleDump {
             root: &particles_root,
             every,
         }),
@@ -465,6 +617,7 @@ pub fn run_sweep_with(
     Ok(SweepRun {
         spec,
         rows,
+        shard,
         ran,
         already: already.len(),
         remaining: todo.len() - ran,

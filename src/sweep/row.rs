@@ -125,14 +125,19 @@ impl Row {
         }
     }
 
-    /// The row as JSON with the wall-clock figures (`wall_s`,
-    /// `particle_steps_per_s`) left out: what two runs of the same point
-    /// agree on.
+    /// The fields of a row that are wall-clock measurements (they differ
+    /// between any two runs of one point; `bench/slurm/run_array.sh` leaves
+    /// the same ones out of its comparison).
+    pub const TIMING_FIELDS: &'static [&'static str] = &["wall_s", "particle_steps_per_s"];
+
+    /// The row as JSON with the wall-clock figures ([`Row::TIMING_FIELDS`])
+    /// left out: what two runs of the same point agree on.
     pub fn without_timing(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("a row serialises");
         let o = v.as_object_mut().expect("a row is an object");
-        o.remove("wall_s");
-        o.remove("particle_steps_per_s");
+        for f in Row::TIMING_FIELDS {
+            o.remove(*f);
+        }
         v
     }
 

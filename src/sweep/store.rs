@@ -14,12 +14,15 @@ use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
 
-use super::{Row, SweepSpec};
+use super::{Row, Shard, SweepSpec};
 use crate::output::{prepare_dir, write_atomic};
 
 pub const SPEC_FILE: &str = "sweep.toml";
 pub const JSONL_FILE: &str = "results.jsonl";
 pub const CSV_FILE: &str = "results.csv";
+/// The shard a shard's folder holds (`--shard k/n`), written by its first
+/// run: a resubmitted task keeps it, a merge names what is missing.
+pub const SHARD_FILE: &str = "shard.toml";
 
 /// The rows of a JSON-lines file, skipping a last line without its newline
 /// (cut short by a crash). A missing file has no rows.
@@ -246,6 +249,57 @@ fn read_spec(dir: &Path) -> Result<Option<SweepSpec>> {
     }
 }
 
+/// The shard `dir` records (its [`SHARD_FILE`]), if any.
+pub fn read_shard(dir: &Path) -> Result<Option<Shard>> {
+    let path = dir.join(SHARD_FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e).with_context(|| format!("reading {}", path.display())),
+    };
+    #[derive(serde::Deserialize)]
+    struct Record {
+        k: usize,
+        n: usize,
+    }
+    let r: Record = toml::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {} (it records the folder's shard as k = K, n = N; remove it, or start over with --force)",
+            path.display(),
+            e.message().trim()
+        )
+    })?;
+    if r.n == 0 || r.k >= r.n {
+        bail!(
+            "{}: k = {}, n = {} is not a shard (0 <= k < n); remove it, or start over with --force",
+            path.display(),
+            r.k,
+            r.n
+        );
+    }
+    Ok(Some(Shard { k: r.k, n: r.n }))
+}
+
+/// Record `shard` as `dir`'s (none: the whole grid, the record removed).
+pub fn write_shard(dir: &Path, shard: Option<Shard>) -> Result<()> {
+    let path = dir.join(SHARD_FILE);
+    match shard {
+        Some(s) => write_atomic(
+            &path,
+            format!(
+                "# this folder is shard k of n of its sweep (--shard {s}): a resubmitted task keeps it\nk = {}\nn = {}\n",
+                s.k, s.n
+            )
+            .as_bytes(),
+        ),
+        None => match std::fs::remove_file(&path) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+            Err(e) => Err(e).with_context(|| format!("removing {}", path.display())),
+        },
+    }
+}
+
 /// Lock the sweep folder `dir` (created if missing) for this process: a
 /// second sweep into it refuses at once instead of duplicating rows or
 /// mixing files. The lock is the folder's own (flock on its descriptor), so
@@ -327,8 +381,17 @@ fn grid_rows(spec: &SweepSpec, rows: Vec<Row>, dir: &Path) -> Vec<Row> {
 
 /// Combine the rows of shard folders of one sweep into `out`: every folder
 /// must hold the same `sweep.toml`; a point finished in several keeps its
-/// first row. Returns the sweep and the merged rows, in grid order.
-pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Vec<Row>)> {
+/// first row. Unless `partial`, every point of the grid must be finished
+/// in some folder: a merge of an incomplete set is an error naming what is
+/// missing (each shard folder's count, the shards not given), before `out`
+/// is touched. `out` is locked like a sweep's folder while it is written.
+/// Returns the sweep and the merged rows, in grid order.
+pub fn merge(
+    dirs: &[PathBuf],
+    out: &Path,
+    force: bool,
+    partial: bool,
+) -> Result<(SweepSpec, Vec<Row>)> {
     let Some(first) = dirs.first() else {
         bail!("merge needs at least one sweep folder");
     };
@@ -348,6 +411,18 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Ve
         rows.extend(grid_rows(&spec, read_rows(&dir.join(JSONL_FILE))?, dir));
     }
     let rows = canonical(rows);
+    let total = spec.points().len();
+    if rows.len() < total && !partial {
+        bail!(
+            "the folders hold {} of the grid's {total} points: {}; merge when every shard has \
+             finished (resume a shard with the same command), or pass --partial to merge what there is",
+            rows.len(),
+            missing(dirs, &spec, total)?
+        );
+    }
+    // One writer per folder: a sweep (or another merge) into `out` holds
+    // its lock, and this waits for none.
+    let _lock = lock(out)?;
     prepare_dir(out, force)?;
     write_atomic(&out.join(SPEC_FILE), spec.to_toml().as_bytes())?;
     let mut jsonl = String::new();
@@ -358,4 +433,53 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<(SweepSpec, Ve
     write_atomic(&out.join(JSONL_FILE), jsonl.as_bytes())?;
     write_csv(out, &rows)?;
     Ok((spec, rows))
+}
+
+/// What a merge of `dirs` lacks, in words: each shard folder's finished
+/// points against its shard's, and the shards of the array not given.
+fn missing(dirs: &[PathBuf], spec: &SweepSpec, total: usize) -> Result<String> {
+    let ids: std::collections::BTreeMap<String, usize> =
+        spec.points().iter().map(|p| (p.id(), p.index)).collect();
+    let mut parts = Vec::new();
+    let mut seen: Vec<Shard> = Vec::new();
+    for dir in dirs {
+        let done: BTreeSet<usize> = read_rows(&dir.join(JSONL_FILE))?
+            .iter()
+            .filter_map(|r| ids.get(&r.id).copied())
+            .collect();
+        match read_shard(dir)? {
+            Some(s) => {
+                seen.push(s);
+                let own = s.size_of(total);
+                let have = done.iter().filter(|&&i| s.contains(i)).count();
+                if have < own {
+                    parts.push(format!(
+                        "{} (shard {s}) has {have} of its {own}",
+                        dir.display()
+                    ));
+                }
+            }
+            None => parts.push(format!(
+                "{} (no shard recorded) has {} points",
+                dir.display(),
+                done.len()
+            )),
+        }
+    }
+    if let Some(n) = seen.first().map(|s| s.n) {
+        if seen.iter().all(|s| s.n == n) {
+            let absent: Vec<String> = (0..n)
+                .filter(|k| !seen.iter().any(|s| s.k == *k))
+                .map(|k| format!("{k}/{n}"))
+                .collect();
+            if !absent.is_empty() {
+                parts.push(format!(
+                    "no folder given for shard{} {}",
+                    if absent.len() > 1 { "s" } else { "" },
+                    absent.join(", ")
+                ));
+            }
+        }
+    }
+    Ok(parts.join("; "))
 }

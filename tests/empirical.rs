@@ -1,0 +1,237 @@
+//! The empirical answer (`shearsph c0 --empirical`, one engine for every
+//! command): it does not depend on the horizon nor on the jitter's
+//! amplitude once the flow is stationary, `run --c0 empirical` runs at its
+//! recommendation, and its JSON has the schema programs read.
+
+use std::process::Command;
+use std::sync::atomic::AtomicBool;
+
+use indicatif::ProgressBar;
+use serde_json::Value;
+use shearsph::config::Scene;
+use shearsph::empirical::{answer, Extras, Runs, Search, Starts};
+use shearsph::solver::Class;
+
+fn scene(fields: &[(&str, toml::Value)]) -> Scene {
+    let mut t = toml::Table::new();
+    for (k, v) in fields {
+        t.insert(k.to_string(), v.clone());
+    }
+    Scene::load(None, t).unwrap()
+}
+
+fn c0_min(scene: &Scene, search: &Search) -> f64 {
+    let a = answer(
+        scene,
+        search,
+        Extras::default(),
+        &AtomicBool::new(false),
+        &ProgressBar::hidden(),
+    )
+    .unwrap();
+    a.c0_min_ok
+        .unwrap_or_else(|| panic!("an answer: {:?}", a.disordered))
+}
+
+/// The answer at horizon H (64 shear times after the start-up) and 2H, and
+/// from a jitter five times smaller, agree within the bisection's
+/// tolerance (Monaghan, N = 6, Re = 1: 17.8, 17.8 and 19.1 U when this
+/// was written). A horizon of 32 shear times does not (22.1 U): it ends
+/// before the disorder is stationary.
+#[test]
+fn the_answer_holds_for_twice_the_horizon_and_a_smaller_jitter() {
+    let base = |span: f64| {
+        scene(&[
+            ("n_layers", 6.into()),
+            ("re", 1.0.into()),
+            ("horizon_span", span.into()),
+        ])
+    };
+    let search = Search::default();
+    let h = c0_min(&base(64.0), &search);
+    let h2 = c0_min(&base(128.0), &search);
+    let small = c0_min(
+        &base(64.0),
+        &Search {
+            amplitude: 0.01,
+            ..search
+        },
+    );
+    let tol = 1.0 + search.rel_tol;
+    for (what, c) in [("2H", h2), ("a 0.01 d jitter", small)] {
+        let r = (c / h).max(h / c);
+        assert!(r <= tol, "H: {h} U, {what}: {c} U, ratio {r} above {tol}");
+    }
+}
+
+#[test]
+fn a_too_small_c0_is_ok_on_the_perfect_lattice_but_not_disordered() {
+    // The built-in scene (Monaghan, N = 10, Re = 10) at c0 = 0.2 U, above
+    // its derived c0: the perfect lattice keeps its order and runs ok, the
+    // jittered start disorders and fails by compaction.
+    let s = Scene::builtin();
+    let search = Search {
+        seeds: 1,
+        ..Search::default()
+    };
+    let t = Runs::default()
+        .trials(
+            &s,
+            &search,
+            &[0.2 * s.u],
+            Starts::Both,
+            &AtomicBool::new(false),
+            &|| {},
+        )
+        .unwrap()
+        .remove(0);
+    let perfect = t.perfect.as_ref().unwrap();
+    assert_eq!(perfect.class, Class::Ok, "{t:?}");
+    assert!(perfect.stationary, "{t:?}");
+    assert_eq!(t.pooled.as_ref().unwrap().class, Class::Failed, "{t:?}");
+}
+
+/// A cheap scene for the CLI's plumbing: a short horizon and one seed.
+const CHEAP: [&str; 8] = [
+    "--n",
+    "6",
+    "--re",
+    "1",
+    "--horizon-span",
+    "8",
+    "--seeds",
+    "1",
+];
+
+#[test]
+fn the_empirical_answer_has_its_schema() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["c0", "--empirical", "--json", "--quiet", "--rel-tol", "0.5"])
+        .args(CHEAP)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["recommended"].is_number() || v["recommended"].is_null());
+    for key in [
+        "t_startup",
+        "shear_time",
+        "first",
+        "cap",
+        "runs",
+        "stationary",
+    ] {
+        assert!(
+            v["horizon"][key].is_number(),
+            "horizon.{key}: {}",
+            v["horizon"]
+        );
+    }
+    for key in ["disordered", "ordered", "trials", "search"] {
+        assert!(!v[key].is_null(), "{key}");
+    }
+    let rules = v["rules"].as_array().unwrap();
+    for r in rules {
+        for key in [
+            "name",
+            "c0",
+            "ordered",
+            "disordered",
+            "eps_stat",
+            "linf_stat",
+            "not_applicable",
+        ] {
+            assert!(r.get(key).is_some(), "rule {r} lacks {key}");
+        }
+        for key in ["ordered", "disordered"] {
+            if let Some(c) = r[key].as_str() {
+                assert!(["ok", "inaccurate", "over-compressed", "failed"].contains(&c));
+            }
+        }
+    }
+    let names: Vec<&str> = rules.iter().map(|r| r["name"].as_str().unwrap()).collect();
+    for rule in [
+        "rule10",
+        "morris1997",
+        "gpusph",
+        "dualsphysics",
+        "trixi",
+        "derived-eps",
+    ] {
+        assert!(names.contains(&rule), "{rule} missing from {names:?}");
+    }
+}
+
+#[test]
+fn empirical_as_a_c0_rule_runs_the_search_first() {
+    // `run --c0 empirical`: the search for the scene, said on stdout, then
+    // the run itself at that c0 (its summary's c0 is the number said), the
+    // same as `c0 --c0 empirical` recommends.
+    let dir = tempfile::tempdir().unwrap();
+    let span = ["--n", "6", "--re", "1", "--horizon-span", "8"];
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["run", "--quiet", "--no-particles"])
+        .args(span)
+        .args(["--c0", "empirical", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("c0 = empirical = "),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let said: f64 = stdout["c0 = empirical = ".len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let c0 = summary["c0"].as_f64().unwrap();
+    assert!((c0 - said).abs() <= 1e-6 * said, "{c0} vs {said}");
+    let ans = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["c0", "--json", "--quiet", "--no-rules"])
+        .args(span)
+        .args(["--c0", "empirical"])
+        .output()
+        .unwrap();
+    let v: Value = serde_json::from_slice(&ans.stdout).unwrap();
+    let rec = v["recommended"].as_f64().unwrap();
+    assert!((rec - said).abs() <= 1e-6 * said, "{rec} vs {said}");
+}
+
+#[test]
+fn the_quick_law_writes_its_points_fits_and_chart() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["law", "--quick", "--quiet", "--force", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.path().join("law.csv")).unwrap();
+    // a header and one row per point of src/law/quick.toml (1 N x 2 Re x 1 alpha)
+    assert_eq!(csv.lines().count(), 1 + 2, "{csv}");
+    assert!(csv.starts_with("kernel,n,re,alpha,c0_min_over_u,below_over_u,law_k,law_m"));
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("law.json")).unwrap())
+            .unwrap();
+    let law = &v["laws"][0];
+    assert_eq!(law["kernel"], "monaghan");
+    let fitted = law["fitted"].as_u64().unwrap() as usize;
+    assert_eq!(fitted + law["unfitted"].as_array().unwrap().len(), 2);
+    let svg = std::fs::read_to_string(dir.path().join("law_monaghan.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("Re = 1"));
+}
