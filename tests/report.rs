@@ -116,6 +116,8 @@ fn index_references_every_figure_and_table() {
         }
         promised.push(format!("answer_{}.svg", k.name));
         promised.push(format!("answer_{}.csv", k.name));
+        // the two regimes in time, at the search's first probe
+        promised.push(format!("history_{}.svg", k.name));
     }
     // Where the method fails, when some run of a map failed in the solver.
     for entry in std::fs::read_dir(&dir).unwrap() {
@@ -141,6 +143,7 @@ fn index_references_every_figure_and_table() {
     // Sections, and the figures inline: one <svg> per figure file.
     for id in [
         "answer",
+        "history",
         "verdicts",
         "table1",
         "table2",

@@ -9,8 +9,8 @@ use std::sync::atomic::AtomicBool;
 use indicatif::ProgressBar;
 use shearsph::sweep::store::{self, CSV_FILE, JSONL_FILE, SPEC_FILE};
 use shearsph::sweep::{
-    run_point, run_sweep, worst_over_seeds, Class, ClassRules, Parallel, Point, PointC0, Row,
-    SweepSpec,
+    pool_over_seeds, pool_rows, run_point, run_sweep, Class, ClassRules, Parallel, Point, PointC0,
+    Row, SweepSpec,
 };
 
 fn run(dir: &Path, spec: Option<SweepSpec>) -> shearsph::sweep::SweepRun {
@@ -70,10 +70,16 @@ fn a_square_h13_10_jittered_grid_runs_and_writes_its_columns() {
     assert_eq!(row.b, 6.0, "B = N dy with dy = d on the square lattice");
     // the seeds start differently, and fold into one perturbed outcome
     assert_ne!(r.rows[1].linf_max, r.rows[2].linf_max);
-    let folded = worst_over_seeds(&r.rows);
+    let folded = pool_over_seeds(&r.rows);
     assert_eq!(folded.len(), 2);
     assert_eq!(folded[1].rows.len(), 2);
-    assert_eq!(folded[1].class, r.rows[1].class.max(r.rows[2].class));
+    let pooled = pool_rows(&[&r.rows[1], &r.rows[2]]);
+    assert_eq!(folded[1].class(), pooled.class);
+    assert_eq!(folded[1].pooled.eps_stat, pooled.eps_stat);
+    assert!(
+        (pooled.eps_stat - 0.5 * (r.rows[1].eps_stat + r.rows[2].eps_stat)).abs() < 1e-15
+            || pooled.class == Class::Failed
+    );
     // rows read back keep their key and their grid position
     let again = store::on_grid(
         &spec,

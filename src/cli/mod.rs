@@ -134,6 +134,12 @@ pub struct SceneArgs {
     /// lattice pulsation eps0 by more than this (default 0.01).
     #[arg(long)]
     pub eps_margin: Option<f64>,
+    /// Time-step factor of the CFL limit, dt <= CFL h / (c0 + |v|max) (0.5).
+    #[arg(long)]
+    pub cfl: Option<f64>,
+    /// Time-step factor of the viscous limit, dt <= F h^2 / nu (0.125).
+    #[arg(long)]
+    pub viscous_dt: Option<f64>,
     /// Neighbour-list skin in units of h.
     #[arg(long)]
     pub skin: Option<f64>,
@@ -196,6 +202,8 @@ impl SceneArgs {
         put("linf_bound", self.linf_bound.map(Value::Float));
         put("eps_margin", self.eps_margin.map(Value::Float));
         put("skin", self.skin.map(Value::Float));
+        put("cfl", self.cfl.map(Value::Float));
+        put("viscous_dt", self.viscous_dt.map(Value::Float));
         put("max_run_s", self.max_run_s.map(Value::Float));
         t
     }

@@ -47,15 +47,17 @@ impl DisorderedLaw {
     }
 }
 
-/// Fit the law on the settled trials (at least 3, spanning a factor 1.5 in
-/// c0 at the least); None when there are not enough.
+/// Fit the law on the settled trials whose compaction above the lattice's
+/// own, eps_stat - eps0+, is at least 1e-3 and at least eps0+ (where the
+/// lattice's pulsation or the percentile's floor does not set it): at
+/// least 3, spanning a factor 1.5 in c0; None when there are not enough.
 pub fn fit(trials: &[&Trial], eps0: f64) -> Option<DisorderedLaw> {
     let mut pts: Vec<(f64, f64)> = trials
         .iter()
         .filter_map(|t| t.pooled.as_ref().map(|p| (t.c0_over_u, p)))
         .filter(|(_, p)| p.settled())
         .map(|(c, p)| (c, p.eps_stat - eps0))
-        .filter(|p| p.1 > 0.0 && p.0 > 0.0)
+        .filter(|p| p.1 >= 1e-3 && p.1 >= eps0 && p.0 > 0.0)
         .collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     pts.dedup_by(|a, b| a.0 == b.0);

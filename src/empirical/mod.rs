@@ -123,7 +123,11 @@ impl Search {
             ),
         ] {
             if !(ok && v.is_finite()) {
-                bail!("{} = {v} must be a finite number {what}", name(field));
+                bail!(
+                    "{} = {} must be a finite number {what}",
+                    name(field),
+                    crate::format::fmt_value(v)
+                );
             }
         }
         Ok(())
@@ -182,7 +186,8 @@ pub struct RuleAnswer {
     pub disordered: Option<Class>,
     pub eps_stat: f64,
     pub linf_stat: f64,
-    /// Steps per unit time relative to the recommended c0's.
+    /// Steps per unit time relative to the recommended c0's (or, with none,
+    /// the smallest c0 that does not compress).
     pub cost_rel: f64,
     pub wall_s: f64,
 }
@@ -363,7 +368,10 @@ pub fn answer(
             .as_ref()
             .map_or(f64::NAN, |p| p.steps as f64 / p.t.max(f64::MIN_POSITIVE))
     };
-    let base = recommended.and_then(by_c0).map(rate);
+    let base = recommended
+        .or(disordered.not_compressed.map(|h| h.0))
+        .and_then(by_c0)
+        .map(rate);
     let rule_answers = named
         .into_iter()
         .map(|(name, c)| match c {

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::Scene;
 use crate::empirical::{answer, Extras, Search};
-use crate::problem::c0::{all_rules, by_rule};
+use crate::problem::c0::{all_rules_on, by_rule};
 use crate::problem::channel::Channel;
 use crate::problem::cost::Estimate;
 use fit::{least_squares, Fit};
@@ -229,7 +229,7 @@ pub fn run_until(config: &Config, bar: &ProgressBar, stop: &AtomicBool) -> Resul
             let u = channel.flow.u;
             let t_end = channel.t_end(scene)?;
             let mut rules = Vec::new();
-            for rule in all_rules(info) {
+            for rule in all_rules_on(info, channel.discretisation) {
                 let (c0, name) = by_rule(&rule, info, &channel, *alpha)?;
                 rules.push((name, c0 / u));
             }
@@ -532,7 +532,7 @@ mod tests {
     #[test]
     fn the_embedded_configs_parse_and_their_points_resolve() {
         for c in [Config::default_full(), Config::quick()] {
-            assert!(c.n.len() >= 2 && c.re.len() >= 2);
+            assert!(!c.n.is_empty() && c.re.len() >= 2);
             for (k, n, re, a) in c.points() {
                 let s = c.scene(&k, n, re, a).unwrap();
                 crate::problem::c0::table(&s).unwrap();

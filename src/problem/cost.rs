@@ -25,7 +25,7 @@ pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DtLimit {
-    /// 0.25 h / (c0 + |v|max).
+    /// 0.5 h / (c0 + |v|max) (the factor: the scene's `cfl`).
     Cfl,
     /// 0.125 h^2 / nu.
     Viscous,
@@ -54,10 +54,33 @@ pub struct TimeStep {
     pub limit: DtLimit,
 }
 
+/// The factors of the three limits: dt <= cfl h / (c0 + |v|max),
+/// viscous h^2 / nu, 0.25 sqrt(h / |a|max).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DtFactors {
+    pub cfl: f64,
+    pub viscous: f64,
+}
+
+impl Default for DtFactors {
+    /// The scene's defaults ([`crate::config::scene::DEFAULT_CFL`]).
+    fn default() -> Self {
+        DtFactors {
+            cfl: crate::config::scene::DEFAULT_CFL,
+            viscous: crate::config::scene::DEFAULT_VISCOUS_DT,
+        }
+    }
+}
+
 impl TimeStep {
+    /// The limits with the default factors ([`DtFactors::default`]).
     pub fn new(h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
-        let cfl = 0.25 * h / (c0 + v_max);
-        let viscous = 0.125 * h * h / nu;
+        TimeStep::with(DtFactors::default(), h, c0, nu, v_max, a_max)
+    }
+
+    pub fn with(f: DtFactors, h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
+        let cfl = f.cfl * h / (c0 + v_max);
+        let viscous = f.viscous * h * h / nu;
         let force = if a_max > 0.0 {
             0.25 * (h / a_max).sqrt()
         } else {

@@ -73,6 +73,8 @@ pub struct Problem {
     pub output_interval: f64,
     /// When the run may stop and which window judges it.
     pub horizon: Horizon,
+    /// The time step's factors (the scene's `cfl` and `viscous_dt`).
+    pub dt_factors: cost::DtFactors,
     pub initial: Initial,
     /// A run fails when a fluid speed exceeds 10 U + c0: no flow of this
     /// problem comes near it (the flow is at most U, the acoustic pulsation a
@@ -222,6 +224,10 @@ impl Problem {
             t_end,
             output_interval,
             horizon,
+            dt_factors: cost::DtFactors {
+                cfl: scene.cfl,
+                viscous: scene.viscous_dt,
+            },
             initial: scene.initial,
             v_limit,
         })
@@ -593,6 +599,20 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
         ));
     }
     crate::config::check_alpha(scene.alpha)?;
+    for (field, v, hi) in [
+        ("cfl", scene.cfl, 2.0),
+        ("viscous_dt", scene.viscous_dt, 1.0),
+    ] {
+        if !(v > 0.0 && v <= hi) {
+            return Err(invalid(
+                field,
+                format!(
+                    "{} must be in (0, {hi}]: a time-step factor (0.25 and 0.125 by default)",
+                    fmt_value(v)
+                ),
+            ));
+        }
+    }
     if !(scene.gamma >= 1.0 && scene.gamma.is_finite()) {
         return Err(invalid(
             "gamma",

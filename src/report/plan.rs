@@ -710,7 +710,13 @@ mod tests {
     fn embedded_configs_parse_and_cover_the_verdicts() {
         for c in [Config::default_full(), Config::quick()] {
             let plan = c.plan();
-            let ids: BTreeSet<String> = plan.points.iter().map(Point::id).collect();
+            // One scene per id and horizon (the speed grid's own fixed one).
+            let ids: BTreeSet<(bool, String)> = plan
+                .points
+                .iter()
+                .zip(&plan.speed)
+                .map(|(p, s)| (*s, p.id()))
+                .collect();
             assert_eq!(ids.len(), plan.points.len());
             assert_eq!(plan.keys.len(), plan.points.len());
             for (k, info) in c.kernel_infos().iter().enumerate() {
@@ -719,7 +725,12 @@ mod tests {
                         "{}/n={}/re={re}/alpha={}/c0=rule10",
                         info.name, c.maps.n, c.maps.alpha
                     );
-                    let i = plan.points.iter().position(|p| p.id() == id).expect(&id);
+                    let i = plan
+                        .points
+                        .iter()
+                        .zip(&plan.speed)
+                        .position(|(p, s)| p.id() == id && !s)
+                        .expect(&id);
                     let want = Key {
                         kernel: k,
                         role: Role::Rule {

@@ -173,7 +173,8 @@ impl<'p> Sim<'p> {
     /// The time step the last forces allow.
     fn time_step(&self) -> TimeStep {
         let p = self.problem;
-        TimeStep::new(
+        TimeStep::with(
+            p.dt_factors,
             p.lattice.h,
             p.c0,
             p.flow.nu,

@@ -270,12 +270,12 @@ mod tests {
         assert!((w.eps_stat - 0.02).abs() < 1e-12);
         assert!(w.linf_stat < 1e-12 && (w.linf_frame_mean - 0.03).abs() < 1e-12);
         assert_eq!(w.regime, Regime::Disordered);
-        // A compaction that grows by half across the window is not.
+        // A compaction that grows by a third across the window is not.
         let s: Vec<Sample> = (0..=40)
             .map(|i| {
                 sample(
                     f64::from(i),
-                    0.02 * (1.0 + f64::from(i) / 40.0),
+                    0.02 * (1.0 + f64::from(i) / 10.0),
                     0.01,
                     0.5,
                     0.0,
