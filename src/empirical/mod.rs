@@ -60,7 +60,7 @@ impl Default for Search {
     fn default() -> Self {
         Search {
             amplitude: 0.05,
-            seeds: 4,
+            seeds: 3,
             margin: 1.5,
             rel_tol: 0.1,
             first_over_u: 10.0,
@@ -133,12 +133,13 @@ impl Search {
         Ok(())
     }
 
-    fn steps(&self, u: f64) -> search::Steps {
+    fn steps(&self, u: f64, law: Option<(f64, f64)>) -> search::Steps {
         search::Steps {
             first: self.first_over_u * u,
             lo: self.lo_over_u * u,
             hi: self.hi_over_u * u,
             rel_tol: self.rel_tol,
+            law,
         }
     }
 }
@@ -284,12 +285,17 @@ pub fn answer(
         stop,
         bar,
     };
-    let steps = search.steps(u);
-    let disordered = search::search(Regime::Disordered, steps, &mut |c| {
-        e.trial(c, Starts::Seeds)
-    })?;
+    let eps0 = disc.eps.max.value.max(0.0);
+    let bound = scene.classes().eps_bound(disc);
+    let disordered = search::search(
+        Regime::Disordered,
+        search.steps(u, Some((eps0, bound))),
+        &mut |c| e.trial(c, Starts::Seeds),
+    )?;
     let ordered = if extras.ordered {
-        search::search(Regime::Ordered, steps, &mut |c| e.trial(c, Starts::Perfect))?
+        search::search(Regime::Ordered, search.steps(u, None), &mut |c| {
+            e.trial(c, Starts::Perfect)
+        })?
     } else {
         Bracket {
             regime: Regime::Ordered,
@@ -360,7 +366,6 @@ pub fn answer(
     all.dedup();
     let trials = e.runs.collect(scene, search, &all)?;
     let by_c0 = |c: f64| trials.iter().find(|t| t.c0 == c);
-    let eps0 = disc.eps.max.value.max(0.0);
     let law = law::fit(&trials.iter().collect::<Vec<_>>(), eps0);
     // Steps per unit time, of the perfect lattice's run.
     let rate = |t: &Trial| {

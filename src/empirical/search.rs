@@ -3,8 +3,13 @@
 //! inaccurate once the artificial viscosity alpha c0 h grows, so the
 //! smallest ok c0 is where compression ends, if the run there is accurate.
 //! From a first probe (10 U by default) the search steps by sqrt(10) up
-//! (while compressed) or down (while not) to a bracket, then bisects on
-//! log c0 to the relative tolerance.
+//! (while compressed) or down (while not) to a bracket, then narrows it on
+//! log c0 to the relative tolerance: where two settled disordered trials
+//! give the disordered law (eps_stat - eps0 = k (U / c0)^m), its next probe
+//! is where the law puts the bound, kept inside the bracket by a factor
+//! sqrt(1 + tol), so the bracket closes in about two probes; otherwise at
+//! the geometric middle (a plain bisection). Either way the answer is
+//! bracketed to the tolerance by trials, not by the law.
 
 use anyhow::Result;
 use serde::Serialize;
@@ -69,6 +74,39 @@ pub struct Steps {
     pub lo: f64,
     pub hi: f64,
     pub rel_tol: f64,
+    /// For the disordered regime: the lattice's own compaction eps0+ and
+    /// the bound on eps_stat, for the law's probes (None: plain bisection).
+    pub law: Option<(f64, f64)>,
+}
+
+/// The next probe inside (l, h): where the law through the two settled
+/// trials nearest the bracket puts the bound, or the geometric middle.
+fn next_probe(l: f64, h: f64, steps: &Steps, settled: &[(f64, f64)]) -> f64 {
+    let mid = (h * l).sqrt();
+    let Some((eps0, bound)) = steps.law else {
+        return mid;
+    };
+    let mut pts: Vec<(f64, f64)> = settled
+        .iter()
+        .filter(|p| p.1 - eps0 > 0.0)
+        .map(|&(c, e)| (c.ln(), (e - eps0).ln()))
+        .collect();
+    // The two nearest the bracket's middle, in log c0.
+    pts.sort_by(|a, b| (a.0 - mid.ln()).abs().total_cmp(&(b.0 - mid.ln()).abs()));
+    let [(x1, y1), (x2, y2), ..] = pts[..] else {
+        return mid;
+    };
+    let slope = (y2 - y1) / (x2 - x1);
+    if !(slope < 0.0 && slope.is_finite() && bound - eps0 > 0.0) {
+        return mid;
+    }
+    let c = (x1 + ((bound - eps0).ln() - y1) / slope).exp();
+    let q = (1.0 + steps.rel_tol).sqrt();
+    if c.is_finite() {
+        c.clamp(l * q, h / q)
+    } else {
+        mid
+    }
 }
 
 /// Search with `trial` running one c0 (cached: a c0 asked twice is run
@@ -80,12 +118,23 @@ pub fn search(
 ) -> Result<Bracket> {
     let factor = 10f64.sqrt();
     let mut probes = Vec::new();
-    let mut class_at = |c: f64, probes: &mut Vec<f64>| -> Result<Class> {
+    // (c0, eps_stat) of the settled disordered trials, for the law.
+    let mut settled: Vec<(f64, f64)> = Vec::new();
+    let mut class_at = |c: f64,
+                        probes: &mut Vec<f64>,
+                        settled: &mut Vec<(f64, f64)>|
+     -> Result<Class> {
         probes.push(c);
-        Ok(regime.class(&trial(c)?))
+        let t = trial(c)?;
+        if let (Regime::Disordered, Some(p)) = (regime, &t.pooled) {
+            if p.settled() {
+                settled.push((c, p.eps_stat));
+            }
+        }
+        Ok(regime.class(&t))
     };
     let first = steps.first.clamp(steps.lo, steps.hi);
-    let k = class_at(first, &mut probes)?;
+    let k = class_at(first, &mut probes, &mut settled)?;
     let (mut lo, mut hi): (Option<(f64, Class)>, Option<(f64, Class)>);
     if compressed(k) {
         lo = Some((first, k));
@@ -93,7 +142,7 @@ pub fn search(
         let mut c = first;
         while c * factor <= steps.hi * (1.0 + 1e-12) {
             c *= factor;
-            let k = class_at(c, &mut probes)?;
+            let k = class_at(c, &mut probes, &mut settled)?;
             if compressed(k) {
                 lo = Some((c, k));
             } else {
@@ -107,7 +156,7 @@ pub fn search(
         let mut c = first;
         while c / factor >= steps.lo * (1.0 - 1e-12) {
             c /= factor;
-            let k = class_at(c, &mut probes)?;
+            let k = class_at(c, &mut probes, &mut settled)?;
             if compressed(k) {
                 lo = Some((c, k));
                 break;
@@ -122,8 +171,8 @@ pub fn search(
             if h.0 / l.0 <= 1.0 + steps.rel_tol {
                 break;
             }
-            let mid = (h.0 * l.0).sqrt();
-            let k = class_at(mid, &mut probes)?;
+            let mid = next_probe(l.0, h.0, &steps, &settled);
+            let k = class_at(mid, &mut probes, &mut settled)?;
             if compressed(k) {
                 *l = (mid, k);
             } else {

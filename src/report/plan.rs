@@ -41,7 +41,7 @@ pub struct Config {
 
 /// A config written before the report ran perturbed and square lattices
 /// has no `[perturbed]` or `[square]`: it gets the default report's, every
-/// map Re perturbed (0.05 d, 4 seeds) and the square lattice at the
+/// map Re perturbed (0.05 d, 3 seeds) and the square lattice at the
 /// empirical c0's Re. Left alone when `[maps]` or `[empirical]` is missing
 /// (the error then names those).
 fn fill_missing_lattices(table: &mut toml::Table) {
@@ -52,7 +52,7 @@ fn fill_missing_lattices(table: &mut toml::Table) {
     table.entry("perturbed").or_insert_with(|| {
         let mut t = toml::Table::new();
         t.insert("jitter".into(), toml::Value::Float(0.05));
-        t.insert("seeds".into(), toml::Value::Integer(4));
+        t.insert("seeds".into(), toml::Value::Integer(3));
         t.insert("re".into(), maps_re);
         toml::Value::Table(t)
     });
@@ -310,7 +310,7 @@ impl Config {
         Case::ALL[..n].to_vec()
     }
 
-    /// The perturbation in words: "jittered by 0.05 d, 4 seeds pooled".
+    /// The perturbation in words: "jittered by 0.05 d, 3 seeds pooled".
     pub fn perturbed_label(&self) -> String {
         format!(
             "jittered by {} d, {} seeds pooled",
@@ -665,7 +665,7 @@ mod tests {
         assert!(!old.contains("[perturbed]") && !old.contains("[square]"));
         let c = Config::parse(&old, "old.toml").expect("an old config parses");
         let q = Config::quick();
-        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 4));
+        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 3));
         assert_eq!(c.perturbed.re, q.maps.re);
         assert_eq!(c.square.re, q.empirical.re);
         assert_eq!(c.maps.re, q.maps.re);
