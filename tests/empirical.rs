@@ -20,7 +20,8 @@ fn scene(fields: &[(&str, toml::Value)]) -> Scene {
     Scene::load(None, t).unwrap()
 }
 
-fn c0_min(scene: &Scene, search: &Search) -> f64 {
+/// The answer's c0 and its relative statistical uncertainty.
+fn c0_min(scene: &Scene, search: &Search) -> (f64, f64) {
     let a = answer(
         scene,
         search,
@@ -29,15 +30,18 @@ fn c0_min(scene: &Scene, search: &Search) -> f64 {
         &ProgressBar::hidden(),
     )
     .unwrap();
-    a.c0_min_ok
-        .unwrap_or_else(|| panic!("an answer: {:?}", a.disordered))
+    let c = a
+        .c0_min_ok
+        .unwrap_or_else(|| panic!("an answer: {:?}", a.disordered));
+    (c, a.c0_rel_uncertainty.expect("seeds to tell the spread"))
 }
 
 /// The answer at horizon H (64 shear times after the start-up) and 2H, and
 /// from a jitter five times smaller, agree within the bisection's
-/// tolerance (Monaghan, N = 6, Re = 1: 17.8, 17.8 and 19.1 U when this
-/// was written). A horizon of 32 shear times does not (22.1 U): it ends
-/// before the disorder is stationary.
+/// tolerance and twice their combined statistical uncertainty (the seeds'
+/// spread: the disordered state's compaction fluctuates by about 15 %
+/// between windows of 500 t, so a window of 32 shear times carries that
+/// noise; docs/stationary.md).
 #[test]
 fn the_answer_holds_for_twice_the_horizon_and_a_smaller_jitter() {
     let base = |span: f64| {
@@ -57,10 +61,13 @@ fn the_answer_holds_for_twice_the_horizon_and_a_smaller_jitter() {
             ..search
         },
     );
-    let tol = 1.0 + search.rel_tol;
     for (what, c) in [("2H", h2), ("a 0.01 d jitter", small)] {
-        let r = (c / h).max(h / c);
-        assert!(r <= tol, "H: {h} U, {what}: {c} U, ratio {r} above {tol}");
+        let off = (c.0 / h.0).ln().abs();
+        let allowed = (1.0 + search.rel_tol).ln() + 2.0 * (c.1 * c.1 + h.1 * h.1).sqrt();
+        assert!(
+            off <= allowed,
+            "H: {h:?}, {what}: {c:?} (c0, relative uncertainty): ln ratio {off} above {allowed}"
+        );
     }
 }
 

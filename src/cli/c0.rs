@@ -349,9 +349,11 @@ fn print_answer(a: &crate::empirical::Answer, search: &Search) {
     match (a.c0_min_ok, a.recommended) {
         (Some(min), Some(rec)) => println!(
             "recommended c0 = {rec:.6} ({} U): the smallest c0 ok in the disordered state, {min:.6} \
-             ({} U), times {}{}",
+             ({} U{}), times {}{}",
             f(rec / a.u),
             f(min / a.u),
+            a.c0_rel_uncertainty
+                .map_or(String::new(), |u| format!(" +- {} % from the seeds", f(100.0 * u))),
             search.margin,
             a.disordered
                 .compressed

@@ -206,6 +206,13 @@ pub struct Answer {
     pub horizon: HorizonUsed,
     /// The smallest c0 ok in the disordered regime, and times the margin.
     pub c0_min_ok: Option<f64>,
+    /// The statistical uncertainty of that answer, relative: the standard
+    /// error of the seeds' mean eps_stat - eps0+ at the answer's c0 (their
+    /// spread over sqrt(seeds)), relative to the mean, over the law's m (2,
+    /// Monaghan's, without a law): how far the boundary moves in c0 when
+    /// the compaction moves by its error. The bisection's own tolerance
+    /// comes on top.
+    pub c0_rel_uncertainty: Option<f64>,
     pub recommended: Option<f64>,
     pub disordered: Bracket,
     pub ordered: Bracket,
@@ -440,6 +447,10 @@ pub fn answer(
         )?),
     };
     let horizon = horizon_used(scene, search, &trials)?;
+    let c0_rel_uncertainty = disordered
+        .not_compressed
+        .and_then(|(c, _)| by_c0(c))
+        .and_then(|t| uncertainty(&t.seeds, eps0, law.as_ref().map_or(2.0, |l| l.m)));
     Ok(Answer {
         kernel: info.name.to_string(),
         discretisation: disc.label(),
@@ -450,6 +461,7 @@ pub fn answer(
         search: *search,
         horizon,
         c0_min_ok,
+        c0_rel_uncertainty,
         recommended,
         disordered,
         ordered,
@@ -459,6 +471,20 @@ pub fn answer(
         trials,
         rules: rule_answers,
     })
+}
+
+/// The relative uncertainty in c0 of a boundary at the seeds `runs` (see
+/// [`Answer::c0_rel_uncertainty`]); None with fewer than two seeds.
+fn uncertainty(runs: &[StartRun], eps0: f64, m: f64) -> Option<f64> {
+    let x: Vec<f64> = runs.iter().map(|r| r.eps_stat - eps0).collect();
+    let n = x.len() as f64;
+    if x.len() < 2 || !(m > 0.0) {
+        return None;
+    }
+    let mean = x.iter().sum::<f64>() / n;
+    let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let u = (var / n).sqrt() / mean / m;
+    (u.is_finite() && mean > 0.0).then_some(u)
 }
 
 /// The horizon of the answer's runs.

@@ -120,19 +120,17 @@ pub fn search(
     let mut probes = Vec::new();
     // (c0, eps_stat) of the settled disordered trials, for the law.
     let mut settled: Vec<(f64, f64)> = Vec::new();
-    let mut class_at = |c: f64,
-                        probes: &mut Vec<f64>,
-                        settled: &mut Vec<(f64, f64)>|
-     -> Result<Class> {
-        probes.push(c);
-        let t = trial(c)?;
-        if let (Regime::Disordered, Some(p)) = (regime, &t.pooled) {
-            if p.settled() {
-                settled.push((c, p.eps_stat));
+    let mut class_at =
+        |c: f64, probes: &mut Vec<f64>, settled: &mut Vec<(f64, f64)>| -> Result<Class> {
+            probes.push(c);
+            let t = trial(c)?;
+            if let (Regime::Disordered, Some(p)) = (regime, &t.pooled) {
+                if p.settled() {
+                    settled.push((c, p.eps_stat));
+                }
             }
-        }
-        Ok(regime.class(&t))
-    };
+            Ok(regime.class(&t))
+        };
     let first = steps.first.clamp(steps.lo, steps.hi);
     let k = class_at(first, &mut probes, &mut settled)?;
     let (mut lo, mut hi): (Option<(f64, Class)>, Option<(f64, Class)>);

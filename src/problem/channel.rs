@@ -21,14 +21,15 @@ pub struct Channel {
     pub re: f64,
 }
 
-/// The strip of a jittered start judged in its stationary state, unless the
-/// scene sets `columns`: at least as wide as the channel, 2B, since a
+/// The strip of a jittered start, unless the scene sets `columns`: at
+/// least as wide as the channel, 2B (the disordered state it grows into is
+/// what its window judges), since a
 /// narrower periodic strip falls back into order at high c0 where a wide
 /// one stays disordered (docs/stationary.md: Monaghan, N = 10, Re = 1,
 /// 30 U: eps_stat 0.003 on 5 columns, 0.010 on 10, 0.011 on 20; at 20 U 20
 /// and 40 columns agree).
 fn disordered_columns(scene: &Scene, lattice: &Lattice) -> Option<u32> {
-    let wide = scene.jitter > 0.0 && scene.horizon == crate::config::HorizonKind::Stationary;
+    let wide = scene.jitter > 0.0;
     let channel = (2.0 * lattice.b() / lattice.d * (1.0 - 1e-12)).ceil();
     (wide && channel > f64::from(lattice.columns) && channel <= 1e5).then_some(channel as u32)
 }
