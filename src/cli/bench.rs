@@ -37,6 +37,11 @@ pub struct BenchArgs {
     /// No progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
+    /// The disordered scene: the bench scene jittered by 0.3 d on a strip as
+    /// wide as the channel, run 400 untimed steps before the timed ones
+    /// (the neighbour list rebuilds as a disordered run's does).
+    #[arg(long, conflicts_with_all = ["pysph_match", "sphinxsys_match"])]
+    pub disordered: bool,
     /// Skip measuring the memory bandwidth (the roofline's second roof, a
     /// triad over 3 x 128 MiB after the runs): the roof is then not given.
     #[arg(long)]
@@ -132,6 +137,7 @@ impl BenchArgs {
         opts.steps = self.steps;
         opts.repeats = self.repeats;
         opts.bandwidth = !self.no_bandwidth;
+        opts.disordered = self.disordered;
         if self.pysph_match || self.sphinxsys_match {
             // One run: its thread count, and its steps by the peer's own
             // estimate (bench::pysph_match checks them).

@@ -285,7 +285,7 @@ fn empirical(args: &C0Args) -> Result<ExitCode> {
         ordered: true,
         law_ladder: args.tolerance.is_some(),
     };
-    let a = match answer(&scene, &search, extras, &stop, &bar) {
+    let a = match answer(&scene, &search, extras, stop, &bar) {
         Err(_) if stop.load(std::sync::atomic::Ordering::Relaxed) => {
             bar.finish_and_clear();
             eprintln!("interrupted: no answer");

@@ -478,7 +478,7 @@ pub fn answer(
 fn uncertainty(runs: &[StartRun], eps0: f64, m: f64) -> Option<f64> {
     let x: Vec<f64> = runs.iter().map(|r| r.eps_stat - eps0).collect();
     let n = x.len() as f64;
-    if x.len() < 2 || !(m > 0.0) {
+    if x.len() < 2 || m.is_nan() || m <= 0.0 {
         return None;
     }
     let mean = x.iter().sum::<f64>() / n;

@@ -46,6 +46,9 @@ impl Regime {
     }
 }
 
+/// A probe's c0 (in U) and its class.
+type Probe = (f64, Class);
+
 fn compressed(c: Class) -> bool {
     matches!(c, Class::OverCompressed | Class::Failed)
 }
@@ -133,7 +136,7 @@ pub fn search(
         };
     let first = steps.first.clamp(steps.lo, steps.hi);
     let k = class_at(first, &mut probes, &mut settled)?;
-    let (mut lo, mut hi): (Option<(f64, Class)>, Option<(f64, Class)>);
+    let (mut lo, mut hi): (Option<Probe>, Option<Probe>);
     if compressed(k) {
         lo = Some((first, k));
         hi = None;

@@ -538,11 +538,24 @@ pub struct StepsRun {
 /// as the limits allow), on the current rayon pool, and time them. Stops
 /// early at a failure.
 pub fn run_steps<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
-    rayon::scope(|_| run_steps_here::<K>(problem, steps))
+    run_steps_after::<K>(problem, 0, steps)
 }
 
-fn run_steps_here<K: Kernel>(problem: &Problem, steps: u64) -> StepsRun {
+/// [`run_steps`] after `warm` untimed steps (a jittered start's flow
+/// brought into its disordered state first: `bench --disordered`).
+pub fn run_steps_after<K: Kernel>(problem: &Problem, warm: u64, steps: u64) -> StepsRun {
+    rayon::scope(|_| run_steps_here::<K>(problem, warm, steps))
+}
+
+fn run_steps_here<K: Kernel>(problem: &Problem, warm: u64, steps: u64) -> StepsRun {
     let mut sim = Sim::new::<K>(problem);
+    for _ in 0..warm {
+        let dt = sim.time_step().dt;
+        let check = sim.advance::<K>(dt);
+        if sim.failure(&check).is_some() {
+            break;
+        }
+    }
     let pairs_first = sim.pairs_in_support::<K>();
     let rebuilds_first = sim.list.rebuilds;
     sim.pass_s = [0.0; 3];
