@@ -34,6 +34,15 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // A closed pipe on stdout (`shearsph c0 | head`) ends the process
+    // quietly, as for any Unix filter, instead of a panic in println!.
+    // Files are written atomically, so none is left half-written.
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of one signal, before any
+    // thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     // Before any work: a signal during parsing or checking ends the
     // command with the one status every command gives (130).
     if let Err(e) = cli::interrupt::install() {

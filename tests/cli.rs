@@ -505,8 +505,8 @@ fn c0_lists_every_rule_with_its_time_step() {
     );
     let rule10 = rows.iter().find(|r| r["rule"] == "rule10").unwrap();
     assert_eq!(rule10["c0"], 10.0);
-    // 0.25 h / (c0 + U) with h = 1, U = 1.
-    assert!((rule10["cost"]["dt_cfl"].as_f64().unwrap() - 0.25 / 11.0).abs() < 1e-15);
+    // cfl h / (c0 + U) with the default cfl = 0.5, h = 1, U = 1.
+    assert!((rule10["cost"]["dt_cfl"].as_f64().unwrap() - 0.5 / 11.0).abs() < 1e-15);
     assert!(rule10["cost"]["dt_limit"].is_string());
 
     let text = shearsph(&["c0", "--kernel", "monaghan", "--n", "12"]);

@@ -7,8 +7,10 @@ and `shearsph bench --pysph-match` / `--sphinxsys-match` print them.
 Prints each round, the median throughputs, their ratio and both errors; each
 code's ladder per thread count (error against wall time); and for each target
 accuracy the wall time each code needs to reach it, two ways:
-- "first rung": the cheapest rung of the ladder at or below the target (an
-  upper bound on what the code needs, at the resolutions tried);
+- "first rung": the cheapest rung of the ladder at or below the target,
+  within a relative tolerance REL_TOL = 1e-6 (an error printed to 4 digits
+  that equals the target is at it; an upper bound on what the code needs,
+  at the resolutions tried);
 - "interpolated": on the ladder's Pareto front (rungs sorted by wall time,
   each kept only if more accurate than every cheaper one), log-log linear
   between the last rung above the target and the first at or below it.
@@ -61,19 +63,27 @@ def pareto(rungs):
     return front
 
 
+REL_TOL = 1e-6
+
+
+def reaches(err, target):
+    """err at or below target, within the relative tolerance REL_TOL."""
+    return err <= target * (1.0 + REL_TOL)
+
+
 def time_to(rungs, target):
     """(first rung at or below target or None, interpolated wall time or None)."""
-    ok = [r for r in rungs if r["linf_rel_err"] <= target]
+    ok = [r for r in rungs if reaches(r["linf_rel_err"], target)]
     first = min(ok, key=lambda r: r["wall_s"]) if ok else None
     front = pareto(rungs)
     interp = None
     for a, b in zip(front, front[1:]):
-        if a["linf_rel_err"] > target >= b["linf_rel_err"]:
+        if not reaches(a["linf_rel_err"], target) and reaches(b["linf_rel_err"], target):
             la, lb = math.log(a["linf_rel_err"]), math.log(b["linf_rel_err"])
             w = (math.log(target) - la) / (lb - la)
             interp = math.exp(math.log(a["wall_s"]) + w * (math.log(b["wall_s"]) - math.log(a["wall_s"])))
             break
-    if interp is None and front and front[0]["linf_rel_err"] <= target:
+    if interp is None and front and reaches(front[0]["linf_rel_err"], target):
         interp = front[0]["wall_s"]  # the cheapest rung already reaches it: no lower bound known
     return first, interp
 

@@ -74,9 +74,9 @@ pub struct SceneArgs {
     /// sqrt(2 F B) (coefsound 20 x speedsystem sqrt(|g| hswl), the body force
     /// as g and the fluid depth 2B as hswl); trixi = 100 U (TrixiParticles.jl
     /// poiseuille_flow_2d.jl); empirical (the solver's answer for the scene,
-    /// this project's `c0 --empirical`: the smallest c0 ok on the perfect
-    /// lattice and on 3 starts jittered by 0.05 d, times 1.5; `run` finds it
-    /// first, then runs).
+    /// this project's `c0 --empirical`: the smallest c0 ok in the stationary,
+    /// disordered state of 3 starts jittered by 0.05 d, times 1.5; `run`
+    /// finds it first, then runs; docs/answer.md).
     #[arg(long, allow_hyphen_values = true)]
     pub c0: Option<String>,
     /// Start from `rest` or from the `steady` profile.

@@ -58,13 +58,14 @@ impl Count {
 }
 
 /// Seeds of a jittered start: at most 1,000, since each seed is one more
-/// run of every c0 (a sweep: of every point), and a perturbed outcome, the
-/// worst over the seeds, settled by 3 to 5 in every case measured (README).
+/// run of every c0 (a sweep: of every point), and the seeds' pooled window
+/// statistics agree to a few per cent with 3 on a strip as wide as the
+/// channel (docs/stationary.md).
 pub const SEEDS: Count = Count {
     min: 1,
     max: 1_000,
     why_min: "a jittered start needs at least one seed",
-    why_max: "each seed is one more run of every point, and the worst over the seeds settled by 3 to 5 seeds in every case measured",
+    why_max: "each seed is one more run of every point, and 3 seeds' pooled statistics agree to a few per cent",
 };
 
 /// The cores this process may use (its affinity and cgroup quota).

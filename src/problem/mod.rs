@@ -453,7 +453,12 @@ fn blame_run_time(
     ));
     match (scene.re, scene.p) {
         (Some(re), _) => candidates.push(("re", re / builtin.re.unwrap_or(10.0))),
-        (None, Some(p)) => candidates.push(("p", p / channel.flow.p.max(f64::MIN_POSITIVE))),
+        // p against the body force the built-in Re gives this channel.
+        (None, Some(p)) => {
+            let p_builtin =
+                Poiseuille::from_re(scene.u, channel.flow.b, builtin.re.unwrap_or(10.0)).p;
+            candidates.push(("p", p / p_builtin.max(f64::MIN_POSITIVE)))
+        }
         _ => {}
     }
     for (field, v, d) in [

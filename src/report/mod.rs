@@ -6,7 +6,8 @@
 //! `quick.toml` for `--quick`) names the grids ([`plan`]: every scene once,
 //! with typed keys for the places it serves); every scene goes through the
 //! sweep engine ([`crate::sweep`]) in parallel; the empirical c0 is found by
-//! bisection with the solver in the loop; the verdicts are sentences built
+//! the engine of `c0 --empirical` ([`crate::empirical`]) with the solver in
+//! the loop; the verdicts are sentences built
 //! from those rows, never typed in.
 
 mod answer;
@@ -104,7 +105,7 @@ pub fn run(
     let plan = config.plan();
     let points = &plan.points;
     log(&format!(
-        "report: {} scenes ({} kernels) on {} workers, then the empirical c0 by bisection",
+        "report: {} scenes ({} kernels) on {} workers, then the empirical c0 by the search of c0 --empirical",
         points.len(),
         infos.len(),
         opts.par.jobs

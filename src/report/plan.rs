@@ -163,7 +163,7 @@ impl Config {
         }
         for re in &self.empirical.re {
             if !self.maps.re.contains(re) {
-                bail!("empirical.re = {re} is not one of maps.re: the bisection starts from the map's row at that Re");
+                bail!("empirical.re = {re} is not one of maps.re: the empirical search is reported beside the map's row at that Re");
             }
         }
         // The perturbed lattice is always run; the square one only when
@@ -179,7 +179,7 @@ impl Config {
                 continue;
             }
             if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
-                bail!("{field} lacks empirical.re = {re}: the bisection starts from the map's row at that Re");
+                bail!("{field} lacks empirical.re = {re}: the empirical search is reported beside the map's row at that Re");
             }
         }
         let j = self.perturbed.jitter;

@@ -194,8 +194,8 @@ fn default_h_over_d() -> Vec<HOverDValue> {
 fn default_jitter() -> Vec<f64> {
     vec![0.0]
 }
-/// Three seeds per amplitude, as `c0 --empirical` takes (see README: the
-/// verdict was the same with 3 and 5).
+/// Three seeds per amplitude, as `c0 --empirical` takes (docs/stationary.md:
+/// on a strip as wide as the channel the seeds agree to a few per cent).
 fn default_seeds() -> u32 {
     3
 }

@@ -119,7 +119,7 @@ pub(super) fn table2(h: &mut String, d: &ReportData) {
     if !t2_differs.is_empty() {
         let _ = writeln!(
             h,
-            "<p>Where our default model and the print differ at the printed precision: {}. See README, \"The derivation, and where it differs from the print\".</p>",
+            "<p>Where our default model and the print differ at the printed precision: {}. See docs/derivation.md, \"Where the print differs\".</p>",
             esc(&t2_differs.join("; "))
         );
     }

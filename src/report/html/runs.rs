@@ -113,7 +113,7 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
     h.push_str(&figures_html(figures, "stability"));
     let _ = writeln!(
         h,
-        "<h3 id=\"maps-perturbed\">Perturbed starts</h3>\n<p>The same maps from starts jittered by up to {} d ({} seeds each), at Re in {{{}}}: each cell the worst class over its seeds; ringed, the smallest c0 ok on every seed.</p>",
+        "<h3 id=\"maps-perturbed\">Perturbed starts</h3>\n<p>The same maps from starts jittered by up to {} d ({} seeds each), at Re in {{{}}}: each cell the class of its seeds pooled (failed if one failed, otherwise judged on the seeds' mean window statistics, docs/stationary.md); ringed, the empirical c0 of the disordered regime.</p>",
         c.perturbed.jitter,
         c.perturbed.seeds,
         c.perturbed.re.iter().map(|r| num(*r)).collect::<Vec<_>>().join(", ")

@@ -208,7 +208,7 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt:
     // `forces_chunk`): the same bits, and vector lanes, where LLVM leaves the
     // loop without both terms in scalar code (its cost model, it seems,
     // finds too little work a lane to pay for the gather of (dW/dq)/q):
-    // 1.6x the whole run on one thread (bench/peers/README.md).
+    // 1.6x the whole run on one thread (measured with `shearsph bench`).
     let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
         (true, true, true) => forces_with::<true, true, true>,
         (true, true, false) => forces_with::<true, true, false>,

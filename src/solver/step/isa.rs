@@ -11,7 +11,7 @@ use crate::solver::neighbours::LANES;
 /// 1.04-1.07x at every size of `bench` on one thread, the kernel loop's
 /// long latency chain (square root, division, two Horner sums) paid for
 /// over twice as many vectors; wendland_c2 3.6 % slower at 1e5-1e6
-/// particles, the rest within the noise (bench/peers/README.md). The same
+/// particles, the rest within the noise (measured with `shearsph bench`). The same
 /// bits: each pair's operations do not depend on where a block ends.
 pub(super) const BLOCK: usize = 16 * LANES;
 
