@@ -119,16 +119,20 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .unwrap_or(Path::new("."));
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
     let tmp = dir.join(format!(".{name}.tmp-{}-{}", std::process::id(), serial()));
+    // Only a temporary file this call created is removed on an error: a
+    // file that already had its name (create_new refused it) is not ours.
+    let mut created = false;
     let written = (|| -> std::io::Result<()> {
         let mut f = std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(&tmp)?;
+        created = true;
         f.write_all(bytes)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();
-    if written.is_err() {
+    if written.is_err() && created {
         let _ = std::fs::remove_file(&tmp);
     }
     written.with_context(|| format!("writing {}", path.display()))
@@ -420,5 +424,26 @@ mod tests {
         }
         assert_eq!(files(d), before);
         assert_eq!(std::fs::read_dir(d).unwrap().count(), 2);
+    }
+
+    /// A file that already has the temporary name write_atomic picks is not
+    /// its own: the write fails and that file is left as it was.
+    #[test]
+    fn write_atomic_never_removes_a_file_it_did_not_create() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let next = serial() + 1;
+        let pid = std::process::id();
+        // Decoys for the next serials, whichever other tests take some.
+        for s in next..next + 4096 {
+            std::fs::write(d.join(format!(".out.csv.tmp-{pid}-{s}")), b"not ours").unwrap();
+        }
+        assert!(write_atomic(&d.join("out.csv"), b"new").is_err());
+        assert!(!d.join("out.csv").exists());
+        let decoys = std::fs::read_dir(d).unwrap().count();
+        assert_eq!(decoys, 4096, "a decoy was removed");
+        for e in std::fs::read_dir(d).unwrap() {
+            assert_eq!(std::fs::read(e.unwrap().path()).unwrap(), b"not ours");
+        }
     }
 }
