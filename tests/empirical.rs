@@ -242,3 +242,71 @@ fn the_quick_law_writes_its_points_fits_and_chart() {
     let svg = std::fs::read_to_string(dir.path().join("law_monaghan.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("Re = 1"));
 }
+
+/// The answer runs on every shipped discretisation, not only the paper's:
+/// a rule that gives no c0 there (no compaction, no positive root, the
+/// paper's Table 2 off its lattice) is listed as not applicable, with why,
+/// never fatal. A tiny search (one seed, a wide tolerance, the shortest
+/// horizon, N at the support's least) per kernel x discretisation.
+#[test]
+fn the_answer_runs_on_every_shipped_discretisation() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["kernels", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let kernels: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let mut cases = Vec::new();
+    for k in kernels.as_array().unwrap() {
+        let support = k["support"].as_f64().unwrap();
+        for d in k["discretisations"].as_array().unwrap() {
+            let h = d["h_over_d"].as_f64().unwrap();
+            // The fewest layers the support allows: ceil(R h / d) + 1.
+            let n = ((support * h - 1e-9).ceil() as u32 + 1).max(4);
+            cases.push((
+                k["kernel"].as_str().unwrap().to_string(),
+                d["lattice"].as_str().unwrap().to_string(),
+                d["h_over_d_exact"].as_str().unwrap().to_string(),
+                n,
+            ));
+        }
+    }
+    assert!(
+        cases.len() >= 20,
+        "every kernel x discretisation: {cases:?}"
+    );
+    let run = |(kernel, lattice, h, n): &(String, String, String, u32)| {
+        let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+            .args(["c0", "--empirical", "--json", "--quiet", "--kernel", kernel])
+            .args(["--lattice", lattice, "--h-over-d", h, "--n", &n.to_string()])
+            .args(["--re", "1", "--horizon-span", "8", "--seeds", "1"])
+            .args(["--rel-tol", "10", "--first-over-u", "10"])
+            .args(["--lo-over-u", "5", "--hi-over-u", "20"])
+            .output()
+            .unwrap();
+        let case = format!("{kernel} {lattice} {h} N = {n}");
+        assert!(
+            out.status.success(),
+            "{case}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let rules = v["rules"].as_array().unwrap();
+        assert!(rules.len() >= 6, "{case}: every rule listed");
+        for r in rules {
+            let na = r["not_applicable"].as_str();
+            assert!(
+                r["c0"].is_number() != na.is_some(),
+                "{case}: {} has a c0 or says why not: {r}",
+                r["name"]
+            );
+            assert!(na.is_none_or(|w| !w.is_empty()), "{case}: {r}");
+        }
+    };
+    // Two at a time: the machine's cores.
+    let (a, b) = cases.split_at(cases.len() / 2);
+    std::thread::scope(|s| {
+        s.spawn(|| a.iter().for_each(run));
+        b.iter().for_each(run);
+    });
+}

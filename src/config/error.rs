@@ -92,6 +92,8 @@ fn flag_of(field: &'static str) -> &'static str {
         "jitter_seed" => "jitter-seed",
         "linf_bound" => "linf-bound",
         "eps_margin" => "eps-margin",
+        "horizon_span" => "horizon-span",
+        "viscous_dt" => "viscous-dt",
         other => other,
     }
 }
@@ -133,5 +135,29 @@ pub fn check_alpha(alpha: f64) -> Result<(), SceneError> {
                 fmt_value(alpha)
             ),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::flag_of;
+
+    /// Every field of a scene is named by its flag as the command line
+    /// spells it (`_` as `-`, `n_layers` as `n`): a field added to the
+    /// scene without its arm above fails here, not in a user's message.
+    #[test]
+    fn every_scene_field_is_named_by_its_flag() {
+        let scene = crate::config::Scene::load(None, toml::Table::new()).unwrap();
+        let table = toml::Table::try_from(&scene).unwrap();
+        assert!(table.len() > 20, "{table:?}");
+        for key in table.keys() {
+            let field: &'static str = Box::leak(key.clone().into_boxed_str());
+            let flag = if key == "n_layers" {
+                "n".to_string()
+            } else {
+                key.replace('_', "-")
+            };
+            assert_eq!(flag_of(field), flag, "field {key}");
+        }
     }
 }
