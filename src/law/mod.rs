@@ -450,6 +450,31 @@ pub fn describe(f: &Fit) -> String {
 mod tests {
     use super::*;
 
+    /// Every law config the project ships (the embedded ones and those in
+    /// docs/law/) parses with the engine as it is: a field added to the
+    /// config fails here, not when a user reruns a documented command.
+    #[test]
+    fn every_shipped_law_config_parses() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut files = vec![
+            root.join("src/law/law.toml"),
+            root.join("src/law/quick.toml"),
+        ];
+        for e in std::fs::read_dir(root.join("docs/law")).unwrap() {
+            let path = e.unwrap().path();
+            if path.extension().is_some_and(|x| x == "toml") {
+                files.push(path);
+            }
+        }
+        assert!(files.len() >= 3, "{files:?}");
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            if let Err(e) = Config::parse(&text, &f.display().to_string()) {
+                panic!("{}: {e:#}", f.display());
+            }
+        }
+    }
+
     fn point(n: u32, re: f64, alpha: f64, c: Option<f64>) -> Point {
         Point {
             kernel: "k".into(),
