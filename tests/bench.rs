@@ -2,16 +2,12 @@
 //! configuration, and the scene matched to PySPH's example. No timing is
 //! asserted: these only check that every figure is there and sane.
 
-use std::process::{Command, Output};
+mod common;
+use common::*;
+
+use std::process::Output;
 
 use serde_json::Value;
-
-fn shearsph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn json(o: &Output) -> Value {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

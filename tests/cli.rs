@@ -3,23 +3,15 @@
 //! test per kind), a failed run naming its particle, Ctrl-C keeping the
 //! outputs so far.
 
+mod common;
+use common::*;
+
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use shearsph::kernels::KERNELS;
-
-fn shearsph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A run that takes a fraction of a second.
 fn quick_run(out: &Path, extra: &[&str]) -> Output {

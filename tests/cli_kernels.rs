@@ -1,20 +1,15 @@
 //! `shearsph kernels` prints every generated kernel, as a table and as JSON,
 //! with the generated constants.
 
+mod common;
+use common::*;
+
 use shearsph::kernels::KERNELS;
-use std::process::Command;
 
 /// serde_json's default float parsing is within an ulp, not always exact.
 fn close(a: &serde_json::Value, b: f64) -> bool {
     let a = a.as_f64().unwrap();
     (a - b).abs() <= 1e-15 * b.abs()
-}
-
-fn shearsph(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 #[test]
@@ -89,7 +84,7 @@ fn kernels_table_names_every_kernel_and_flags_missing_roots() {
     }
 }
 
-/// Issue 33 item 4: where the generator states "no c0" for a derived model
+/// Where the generator states "no c0" for a derived model
 /// (the maximum compaction at t = 0, a lattice that never compacts), `c0`
 /// lists the fact in that model's row, and `run --c0 derived:MODEL` (and
 /// derived-eps for the default model's) is refused with it, exit 1, before

@@ -207,7 +207,7 @@ fn registry_lists_every_definition() {
     }
 }
 
-/// Issue 33 item 4: no emitted model's c0 is a floating-point leftover. A
+/// No emitted model's c0 is a floating-point leftover. A
 /// model whose exact constant term is 0 with S >= 0 (the maximum at t = 0)
 /// has no c0 at any scene and is emitted as a fact, so every model that is
 /// emitted either has no positive root at a scene or one well above the

@@ -1,4 +1,4 @@
-//! Issue 13: every kernel x discretisation. A kernel whose maximum compaction
+//! Every kernel x discretisation. A kernel whose maximum compaction
 //! is not at 0.5 T derives c0 from its true maximum and `show --json` names
 //! that configuration; degenerate derivations are stated facts, not panics
 //! or NaN; snapshots pin the exact forms and 30-digit decimals of every

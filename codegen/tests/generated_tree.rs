@@ -177,7 +177,7 @@ fn check_fails_after_a_kernel_is_edited_and_bad_kernels_change_nothing() {
     assert!(!out.join("zz.rs").exists());
 }
 
-/// Issue 15, item 1: `generate --out DIR` into a folder of the user's own
+/// `generate --out DIR` into a folder of the user's own
 /// files removes none of them, overwrites none of them, and says so; a file
 /// it generated earlier for a kernel since deleted is removed, and named as
 /// removed, not as written.

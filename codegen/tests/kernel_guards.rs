@@ -1,4 +1,4 @@
-//! Issue 15, item 4: kernel names and shapes that used to panic, break the
+//! Kernel names and shapes that used to panic, break the
 //! generated tree or pass without a word. Each class has its own message.
 
 use shearsph_codegen::analysis::{analyse, Options};

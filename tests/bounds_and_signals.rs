@@ -1,8 +1,11 @@
-//! Issue 33, reliability round three: one test per class (counts with no
+//! Bounds and outcomes, one test per class (counts with no
 //! bound, a second signal, one exit code per kind, meaningless results,
 //! Slurm's resubmitted task and incomplete merge, messages naming the
 //! field and where it came from), and a property test over the count
 //! flags.
+
+mod common;
+use common::*;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -11,18 +14,6 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use proptest::prelude::*;
 use shearsph::config::bounds;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_shearsph"))
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
 
 /// Run `cmd` to its end, failing the test (and killing it) if it has not
 /// ended within `limit`: a refused count must not hang. Not a timing
@@ -91,7 +82,7 @@ fn spawn(args: &[&str]) -> std::process::Child {
 /// Item 2: every count has a bound that says why, checked before any work
 /// (a count of 1e9 is refused at once, nothing written).
 #[test]
-fn item2_every_count_is_bounded_before_any_work() {
+fn every_count_is_bounded_before_any_work() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("s");
     let out = out.to_str().unwrap();
@@ -223,7 +214,7 @@ fn item2_every_count_is_bounded_before_any_work() {
 /// SIGHUP): exit 130, keeping what it computed; a second signal never
 /// loses it.
 #[test]
-fn item5_every_command_exits_130_on_a_signal_and_a_second_keeps_the_outputs() {
+fn every_command_exits_130_on_a_signal_and_a_second_keeps_the_outputs() {
     // Commands with nothing to keep end at once with 130 (not 143).
     for args in [
         // seconds of bisection at N = 20, every run to its end
@@ -330,7 +321,7 @@ fn item5_every_command_exits_130_on_a_signal_and_a_second_keeps_the_outputs() {
 /// Item 6: a result that would mean nothing is refused as bad input
 /// (exit 1) before any run, not a grid of failed rows with exit 0.
 #[test]
-fn item6_meaningless_results_are_refused_before_any_run() {
+fn meaningless_results_are_refused_before_any_run() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("s");
     let o = out.to_str().unwrap();
@@ -458,7 +449,7 @@ fn item6_meaningless_results_are_refused_before_any_run() {
 /// task resubmitted alone (`--array=1`) keeps its shard; a lone task with
 /// no record is refused rather than run as the whole grid.
 #[test]
-fn item7_a_resubmitted_task_keeps_its_shard_and_an_incomplete_merge_fails() {
+fn a_resubmitted_task_keeps_its_shard_and_an_incomplete_merge_fails() {
     let tmp = tempfile::tempdir().unwrap();
     let grid = tmp.path().join("grid.toml");
     std::fs::write(
@@ -582,7 +573,7 @@ fn item7_a_resubmitted_task_keeps_its_shard_and_an_incomplete_merge_fails() {
 /// Item 8: parse errors exit 1 like other bad input; a value is named by
 /// where it came from; a far too long run names the input that made it.
 #[test]
-fn item8_messages_name_the_field_and_where_it_came_from() {
+fn messages_name_the_field_and_where_it_came_from() {
     for args in [
         &["run", "--n", "nan"][..],
         &["sweep", "--shard", "5/3"],

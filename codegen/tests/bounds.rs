@@ -1,4 +1,4 @@
-//! Issue 33, the generator's part: every bound is checked before any work
+//! The generator's bounds: every bound is checked before any work
 //! and says why (the layers of `show --n-layers`; the denominators of the
 //! exact lengths h/d, the support and the piece ends), a degenerate c0 is a
 //! stated fact decided from the exact data, the mirror instants of a

@@ -1,23 +1,15 @@
-//! Issue 15 (src/ side): no hang, no panic, no meaningless "ok", nothing
+//! Bad input and bad luck: no hang, no panic, no meaningless "ok", nothing
 //! lost. One test per class of input, each asserting what the message says,
 //! and a property test over every numeric scene field.
+
+mod common;
+use common::*;
 
 use std::process::{Command, Output};
 
 use proptest::prelude::*;
 use shearsph::config::{C0Spec, Scene};
 use shearsph::problem::{cost, Problem};
-
-fn shearsph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// The error of the built-in scene edited by `edit`.
 fn resolve_err(edit: impl Fn(&mut Scene)) -> String {
@@ -33,7 +25,7 @@ fn resolve_err(edit: impl Fn(&mut Scene)) -> String {
 type Edit = Box<dyn Fn(&mut Scene)>;
 
 #[test]
-fn item2_derived_quantities_name_the_input() {
+fn derived_quantities_name_the_input() {
     let cases: Vec<(Edit, &str, &str)> = vec![
         (Box::new(|s| s.d = 1e300), "d", "1e300"),
         (Box::new(|s| s.d = 1e-300), "d", "1e-300"),
@@ -69,7 +61,7 @@ fn item2_derived_quantities_name_the_input() {
 }
 
 #[test]
-fn item3_memory_and_size_are_estimated_before_running() {
+fn memory_and_size_are_estimated_before_running() {
     let err = resolve_err(|s| s.output_interval = Some(1e-4));
     assert!(
         err.contains("`output_interval`") && err.contains("GB of memory"),
@@ -139,7 +131,7 @@ fn item3_memory_and_size_are_estimated_before_running() {
 }
 
 #[test]
-fn item5_output_folder_is_probed_and_sigterm_keeps_outputs() {
+fn output_folder_is_probed_and_sigterm_keeps_outputs() {
     let tmp = tempfile::tempdir().unwrap();
     let ro = tmp.path().join("ro");
     std::fs::create_dir(&ro).unwrap();
@@ -196,7 +188,7 @@ fn one_point_sweep(out: &str, extra: &[&str]) -> Output {
 }
 
 #[test]
-fn item6_sweep_lock_and_grid_values() {
+fn sweep_lock_and_grid_values() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("sw");
     let _held = shearsph::sweep::store::lock(&dir).unwrap();
@@ -231,7 +223,7 @@ fn item6_sweep_lock_and_grid_values() {
 }
 
 #[test]
-fn item7_bench_flags_at_zero_are_refused() {
+fn bench_flags_at_zero_are_refused() {
     for (flags, says) in [
         (&["--steps", "0"][..], "--steps must be at least 1"),
         (&["--repeats", "0"], "--repeats must be at least 1"),
@@ -252,7 +244,7 @@ fn item7_bench_flags_at_zero_are_refused() {
 }
 
 #[test]
-fn item8_messages_name_the_field_and_flag_typed() {
+fn messages_name_the_field_and_flag_typed() {
     let tmp = tempfile::tempdir().unwrap();
     for bad in ["true", "false", "[1]", "{ a = 1 }"] {
         let f = tmp.path().join("s.toml");
@@ -446,7 +438,7 @@ fn folder(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> 
 /// tmpfs (root in a container that may mount); says so and returns
 /// otherwise.
 #[test]
-fn item5_force_over_an_earlier_run_is_atomic_as_a_set() {
+fn force_over_an_earlier_run_is_atomic_as_a_set() {
     let mnt = tempfile::tempdir().unwrap();
     let ok = Command::new("mount")
         .args(["-t", "tmpfs", "-o", "size=4m", "tmpfs"])
@@ -544,7 +536,7 @@ fn item5_force_over_an_earlier_run_is_atomic_as_a_set() {
 /// skipped when the sweep resumes, and when its folder is merged: not
 /// counted, not in the CSV, and the resume says so.
 #[test]
-fn item6_a_row_not_in_the_grid_is_skipped() {
+fn a_row_not_in_the_grid_is_skipped() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("sw");
     let dir_s = dir.to_str().unwrap();

@@ -1,0 +1,24 @@
+//! What the integration tests share: the binary under test and its output
+//! as text. Each test file includes it with `mod common;` and uses what it
+//! needs.
+#![allow(dead_code)]
+
+use std::process::{Command, Output};
+
+/// The `shearsph` binary of this build, to be given arguments.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_shearsph"))
+}
+
+/// `shearsph ARGS`, run to its end.
+pub fn shearsph(args: &[&str]) -> Output {
+    bin().args(args).output().expect("the binary runs")
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
