@@ -13,7 +13,8 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::plan::{Case, Config};
+use super::config::Config;
+use super::plan::Case;
 use crate::config::Scene;
 use crate::empirical::{answer, Answer, Bracket, Extras, Regime, Search, Trial};
 use crate::kernel::KernelInfo;

@@ -11,6 +11,7 @@
 //! from those rows, never typed in.
 
 mod answer;
+mod config;
 mod empirical;
 mod figures;
 mod html;
@@ -34,13 +35,13 @@ use crate::particles::series::{picture_svg, ParticleOutput};
 use crate::solver::FailureKind;
 use crate::sweep::{self, Class, Parallel, Row};
 
+pub use config::{
+    Config, EmpiricalConfig, Figure4Config, MapsConfig, SpeedConfig, DEFAULT_CONFIG, QUICK_CONFIG,
+};
 pub use empirical::Empirical;
 pub use figures::{figure4, map_cells, papers, rule_lines};
 pub use html::square_discretisation;
-pub use plan::{
-    Config, EmpiricalConfig, Figure4Config, Key, MapsConfig, Plan, Role, SpeedConfig,
-    DEFAULT_CONFIG, QUICK_CONFIG,
-};
+pub use plan::{Key, Plan, Role};
 pub use tables::{C0Compare, EpsCompare, Table2Row};
 pub use verdict::Verdict;
 

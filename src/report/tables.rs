@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde::Serialize;
 
-use super::plan::{Case, Config, Plan};
+use super::config::Config;
+use super::plan::{Case, Plan};
 use crate::config::C0Rule;
 use crate::kernel::{Derived, KernelInfo};
 use crate::problem::c0::{all_rules_on, table as c0_table};

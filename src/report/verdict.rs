@@ -4,8 +4,9 @@
 
 use serde::Serialize;
 
+use super::config::Config;
 use super::empirical::Empirical;
-use super::plan::{Case, Config};
+use super::plan::Case;
 use super::tables::C0Compare;
 use crate::config::C0Rule;
 use crate::format::fmt_num;

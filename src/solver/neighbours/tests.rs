@@ -219,6 +219,7 @@ mod lists {
 }
 
 mod stale_tests {
+    use super::super::stale::block_ranges;
     use super::super::*;
     use crate::problem::lattice::Lattice;
 
