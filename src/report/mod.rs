@@ -40,7 +40,7 @@ pub use config::{
 };
 pub use empirical::Empirical;
 pub use figures::{figure4, map_cells, papers, rule_lines};
-pub use html::square_discretisation;
+pub use plan::square_discretisation;
 pub use plan::{Key, Plan, Role};
 pub use tables::{C0Compare, EpsCompare, Table2Row};
 pub use verdict::Verdict;

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use super::config::Config;
 use crate::config::{C0Rule, C0Spec};
-use crate::kernel::{DiscretisationInfo, KernelInfo};
+use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
 use crate::problem::c0::all_rules_on;
 use crate::sweep::{pool_rows, Discretisation, HOverD, Point, PointC0, Row};
 
@@ -118,7 +118,7 @@ impl Config {
 pub enum Disc {
     /// The paper's: triangular, h = d.
     Paper,
-    /// The kernel's [`super::square_discretisation`].
+    /// The kernel's [`square_discretisation`].
     Square,
 }
 
@@ -321,4 +321,17 @@ impl Plan {
         });
         (!seeds.is_empty()).then(|| pool_rows(&seeds))
     }
+}
+
+/// The square discretisation a kernel's square-lattice runs and analysis use:
+/// h = 13/10 d when generated (SPHinXsys's), else the first square one.
+pub fn square_discretisation(info: &KernelInfo) -> Option<&'static DiscretisationInfo> {
+    let square = || {
+        info.discretisations
+            .iter()
+            .filter(|d| d.lattice == Lattice::Square)
+    };
+    square()
+        .find(|d| d.h_over_d_exact == "13/10")
+        .or_else(|| square().next())
 }

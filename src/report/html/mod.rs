@@ -7,8 +7,6 @@ mod answer;
 mod paper;
 mod runs;
 
-pub use paper::square_discretisation;
-
 use super::ReportData;
 use crate::charts::class_hex;
 use crate::format::fmt_num;

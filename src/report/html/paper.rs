@@ -4,7 +4,8 @@
 use std::fmt::Write as _;
 
 use super::{esc, mark, num, sci};
-use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
+use crate::kernel::KernelInfo;
+use crate::report::plan::square_discretisation;
 use crate::report::tables::EpsCompare;
 use crate::report::ReportData;
 
@@ -123,19 +124,6 @@ pub(super) fn table2(h: &mut String, d: &ReportData) {
             esc(&t2_differs.join("; "))
         );
     }
-}
-
-/// The square discretisation a kernel's square-lattice analysis shows:
-/// h = 13/10 d when generated (SPHinXsys's), else the first square one.
-pub fn square_discretisation(info: &KernelInfo) -> Option<&'static DiscretisationInfo> {
-    let square = || {
-        info.discretisations
-            .iter()
-            .filter(|d| d.lattice == Lattice::Square)
-    };
-    square()
-        .find(|d| d.h_over_d_exact == "13/10")
-        .or_else(|| square().next())
 }
 
 /// The same analysis as Tables 1 and 2 for one square discretisation per
