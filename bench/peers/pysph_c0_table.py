@@ -68,8 +68,8 @@ def main():
 
     for re_ in sorted({r["re"] for r in runs}):
         print("Re = %g, N = 10, Monaghan, square lattice h = d, alpha 0.1, jitter 0.05 d" % re_)
-        print("%-6s %-9s %-26s %-8s %-8s %-16s %-10s %s" % (
-            "c0/U", "code", "eps_stat per seed", "pooled", "linf", "class", "t_disord", "window"))
+        print("%-7s %-9s %-26s %-8s %-8s %-16s %-18s %s" % (
+            "c0/U", "code", "eps_stat per seed", "pooled", "linf", "class", "t_disorder/seed", "window per seed"))
         laws = {}
         for code in ("shearsph", "pysph"):
             laws[code] = []
@@ -82,10 +82,10 @@ def main():
                 e = mean(r["eps_stat"] for r in rs)
                 lf = mean(r["linf_stat"] for r in rs)
                 c = cls(e, lf, rs[0]["eps_bound"], any(r["failed"] for r in rs))
-                td = "/".join("%g" % r["t_disorder"] if r["t_disorder"] is not None else "-" for r in rs)
-                print("%-6g %-9s %-26s %-8.4g %-8.3g %-16s %-10s (%g, %g]" % (
-                    c0, code, " ".join("%.4g" % r["eps_stat"] for r in rs), e, lf, c, td,
-                    rs[0]["window_from"], rs[0]["window_to"]))
+                td = "/".join("%.1f" % r["t_disorder"] if r["t_disorder"] is not None else "-" for r in rs)
+                win = " ".join("(%g, %g]" % (r["window_from"], r["window_to"]) for r in rs)
+                print("%-7g %-9s %-26s %-8.4g %-8.3g %-16s %-18s %s" % (
+                    c0, code, " ".join("%.4g" % r["eps_stat"] for r in rs), e, lf, c, td, win))
                 eps0 = rs[0]["eps0"]
                 disordered = all(r["dy_rms"] >= 0.1 for r in rs)
                 if disordered and not any(r["failed"] for r in rs) and e - eps0 >= max(1e-3, eps0):
