@@ -30,4 +30,5 @@ pub mod problem;
 pub mod report;
 pub mod run;
 pub mod solver;
+pub mod stability;
 pub mod sweep;

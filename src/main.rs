@@ -31,6 +31,8 @@ enum Command {
     Law(cli::law::LawArgs),
     /// Time the solver per kernel and particle count, on one core and all: throughput, ns per pair, memory, GFLOP/s against peak.
     Bench(cli::bench::BenchArgs),
+    /// Does the sheared lattice keep its order? Growth rates of small perturbations by the solver's own step, per Bloch sector and c0.
+    Stability(cli::stability::StabilityArgs),
 }
 
 fn main() -> ExitCode {
@@ -69,6 +71,7 @@ fn main() -> ExitCode {
         Command::Report(args) => cli::report::main(args),
         Command::Bench(args) => cli::bench::main(args),
         Command::Law(args) => cli::law::main(args),
+        Command::Stability(args) => cli::stability::main(args),
     };
     cli::report(result)
 }

@@ -9,6 +9,7 @@ pub mod kernels;
 pub mod law;
 pub mod report;
 pub mod run;
+pub mod stability;
 pub mod sweep;
 
 use std::path::PathBuf;

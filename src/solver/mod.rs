@@ -17,6 +17,7 @@ pub mod ideal_shear;
 pub mod neighbours;
 mod result;
 mod step;
+pub mod tangent;
 pub mod window;
 
 use std::marker::PhantomData;

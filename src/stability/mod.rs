@@ -1,0 +1,187 @@
+//! Does the sheared lattice keep its order? The growth rate of small
+//! perturbations of a scene's perfect lattice in steady Poiseuille flow,
+//! by the solver's own step ([`crate::solver::tangent`]), per Bloch
+//! wavenumber along x, and the time to disorder it predicts; beside it the
+//! growth a nonlinear run of the same scene from a small jitter measures.
+//!
+//! The base state is the scene's perfect lattice with the steady profile
+//! (7) (`initial = steady`: no start-up transient), on the scene's periodic
+//! strip of `columns` columns between its walls. It is invariant under a
+//! shift by one column, so a perturbation whose x dependence is
+//! exp(i q x) with q = 2 pi j / W (W the strip's width, j = 0 ..= columns / 2)
+//! stays in its sector under the linearised step: each sector is seeded
+//! with a generic pattern of that q (cos and sin phases that vary from
+//! layer to layer, in both displacement components) and followed on its
+//! own. The rate is the leading Lyapunov exponent of the sector over the
+//! horizon, in the scene's units (1/t, t in d/U for U = d = 1).
+
+use anyhow::{bail, Result};
+use serde::Serialize;
+
+use crate::config::{C0Spec, Initial, Scene};
+use crate::kernel::{Kernel, KernelVisitor};
+use crate::kernels;
+use crate::problem::Problem;
+use crate::solver::tangent::{self, Options, Perturbation};
+
+pub mod measure;
+
+/// The rms transverse displacement from the lattice, in d, at which the
+/// order counts as lost (`dy_rms >= 0.1 d`, docs/stationary.md).
+pub const DISORDER_DY_RMS: f64 = 0.1;
+
+/// One sector's growth.
+#[derive(Debug, Clone, Serialize)]
+pub struct Sector {
+    /// The sector: q = 2 pi j / W.
+    pub j: u32,
+    /// q d.
+    pub q_d: f64,
+    pub growth_rate: f64,
+    /// 1 / growth_rate, where positive.
+    pub e_fold_time: Option<f64>,
+    pub failed: bool,
+}
+
+/// The analysis of one c0.
+#[derive(Debug, Clone, Serialize)]
+pub struct AtC0 {
+    pub c0_over_u: f64,
+    pub sectors: Vec<Sector>,
+    /// The largest rate and its sector.
+    pub growth_rate: f64,
+    pub most_unstable_j: u32,
+    /// ln(0.1 sqrt 3 / a) / growth_rate: when a jitter of amplitude a (d)
+    /// reaches dy_rms = 0.1 d at the leading rate (a jitter of amplitude a
+    /// starts at dy_rms = a / sqrt 3); none where the rate is not positive.
+    pub t_disorder_predicted: Option<f64>,
+    /// The most unstable mode at the end: per fluid particle x, y (d) and
+    /// its displacement dx, dy (normalised).
+    pub mode: Vec<[f64; 4]>,
+}
+
+/// What is analysed, beyond the scene.
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub c0_over_u: Vec<f64>,
+    /// Sectors; empty: every j from 0 to columns / 2.
+    pub sectors: Vec<u32>,
+    pub options: Options,
+    /// The jitter the predicted time to disorder is for, in d.
+    pub amplitude: f64,
+}
+
+/// The scene the analysis linearises about: the perfect lattice in the
+/// steady profile at `c0`.
+pub fn base_scene(scene: &Scene, c0: f64) -> Scene {
+    let mut s = scene.clone();
+    s.c0 = C0Spec::Value(c0);
+    s.initial = Initial::Steady;
+    s.jitter = 0.0;
+    s
+}
+
+/// A generic perturbation of sector `j`: both components, cos and sin
+/// phases varying from layer to layer by a fixed sequence (no randomness:
+/// the result is the same every run).
+fn seed(x: &[f64], y: &[f64], width: f64, d: f64, j: u32) -> Perturbation {
+    let q = 2.0 * std::f64::consts::PI * f64::from(j) / width;
+    let phase =
+        |y: f64, k: f64| ((y / d).round() * 0.754_877_666 * k).fract() * std::f64::consts::TAU;
+    let comp = |k: f64| -> Vec<f64> {
+        x.iter()
+            .zip(y)
+            .map(|(&x, &y)| (q * x + phase(y, k)).cos())
+            .collect()
+    };
+    let zeros = vec![0.0; x.len()];
+    Perturbation {
+        dx: comp(1.0),
+        dy: comp(2.0),
+        dvx: zeros.clone(),
+        dvy: zeros,
+    }
+}
+
+/// The growth rates of every requested c0 and sector.
+pub fn analyse(scene: &Scene, req: &Request) -> Result<Vec<AtC0>> {
+    if req.c0_over_u.is_empty() {
+        bail!("no c0 to analyse: give --c0-over-u");
+    }
+    let info = scene.kernel_info()?;
+    let mut out = Vec::new();
+    for &c in &req.c0_over_u {
+        let s = base_scene(scene, c * scene.u);
+        let problem = Problem::resolve(&s, info)?;
+        out.push(
+            kernels::with_kernel(
+                info.name,
+                AtC0Visit {
+                    problem: &problem,
+                    req,
+                    c,
+                },
+            )
+            .expect("the registry has a solver for every kernel it lists"),
+        );
+    }
+    Ok(out)
+}
+
+struct AtC0Visit<'a> {
+    problem: &'a Problem,
+    req: &'a Request,
+    c: f64,
+}
+
+impl KernelVisitor for AtC0Visit<'_> {
+    type Output = AtC0;
+    fn visit<K: Kernel>(self) -> AtC0 {
+        let p = self.problem;
+        let lat = &p.lattice;
+        let (x, y) = tangent::start_positions::<K>(p);
+        let js: Vec<u32> = if self.req.sectors.is_empty() {
+            (0..=lat.columns / 2).collect()
+        } else {
+            self.req.sectors.clone()
+        };
+        use rayon::prelude::*;
+        let runs: Vec<(Sector, tangent::Growth)> = js
+            .par_iter()
+            .map(|&j| {
+                let g =
+                    tangent::growth::<K>(p, &seed(&x, &y, lat.width, lat.d, j), self.req.options);
+                let rate = g.rate;
+                let sector = Sector {
+                    j,
+                    q_d: 2.0 * std::f64::consts::PI * f64::from(j) / lat.width * lat.d,
+                    growth_rate: rate,
+                    e_fold_time: (rate > 0.0).then(|| 1.0 / rate),
+                    failed: g.failed,
+                };
+                (sector, g)
+            })
+            .collect();
+        let best = runs
+            .iter()
+            .filter(|(s, _)| s.growth_rate.is_finite())
+            .max_by(|a, b| a.0.growth_rate.total_cmp(&b.0.growth_rate));
+        let (rate, j, mode) = best.map_or((f64::NAN, 0, Vec::new()), |(s, g)| {
+            let d = lat.d;
+            let mode = (0..g.x.len())
+                .map(|i| [g.x[i] / d, g.y[i] / d, g.mode.dx[i], g.mode.dy[i]])
+                .collect();
+            (s.growth_rate, s.j, mode)
+        });
+        let a = self.req.amplitude;
+        AtC0 {
+            c0_over_u: self.c,
+            sectors: runs.into_iter().map(|(s, _)| s).collect(),
+            growth_rate: rate,
+            most_unstable_j: j,
+            t_disorder_predicted: (rate > 0.0 && a > 0.0)
+                .then(|| (DISORDER_DY_RMS * 3f64.sqrt() / a).ln() / rate),
+            mode,
+        }
+    }
+}
