@@ -11,7 +11,8 @@ use serde::Serialize;
 
 use super::SceneArgs;
 use crate::solver::tangent::Options;
-use crate::stability::{analyse, measure::measure, AtC0, Request};
+use crate::stability::measure::{measure, Measured};
+use crate::stability::{analyse, multipliers, AtC0, Multipliers, Request};
 
 /// The growth of perturbations of a scene's sheared lattice.
 #[derive(Debug, Args)]
@@ -47,9 +48,22 @@ pub struct StabilityArgs {
     /// With --measure: the run's end time.
     #[arg(long, default_value_t = 600.0)]
     pub measure_t_end: f64,
+    /// Also the multipliers of the flow over this time from the base state
+    /// (the eigenvalues of its Jacobian by finite differences: 8 runs per
+    /// fluid particle of this length); 0: not computed.
+    #[arg(long, default_value_t = 0.0)]
+    pub multipliers_t: f64,
     /// Print JSON on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Result1 {
+    #[serde(flatten)]
+    analysis: AtC0,
+    measured: Option<Measured>,
+    multipliers: Option<Multipliers>,
 }
 
 #[derive(Serialize)]
@@ -65,7 +79,7 @@ struct Out<'a> {
     warm: f64,
     horizon: f64,
     amplitude: f64,
-    results: Vec<(AtC0, Option<crate::stability::measure::Measured>)>,
+    results: Vec<Result1>,
 }
 
 fn check(args: &StabilityArgs) -> Result<()> {
@@ -93,6 +107,12 @@ fn check(args: &StabilityArgs) -> Result<()> {
         if !(v.is_finite() && v > 0.0 && v <= 1e5) {
             bail!("{flag} = {v}: give a time above 0, at most 1e5");
         }
+    }
+    if !(args.multipliers_t.is_finite() && args.multipliers_t >= 0.0 && args.multipliers_t <= 1e3) {
+        bail!(
+            "--multipliers-t = {}: give a time from 0 (off) to 1e3",
+            args.multipliers_t
+        );
     }
     if !(args.warm.is_finite() && args.warm >= 0.0 && args.warm <= 1e5) {
         bail!("--warm = {}: give a time from 0 to 1e5", args.warm);
@@ -151,7 +171,21 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
         } else {
             None
         };
-        results.push((a, m));
+        let mu = if args.multipliers_t > 0.0 {
+            Some(multipliers(
+                &scene,
+                a.c0_over_u * scene.u,
+                args.multipliers_t,
+                args.eps,
+            )?)
+        } else {
+            None
+        };
+        results.push(Result1 {
+            analysis: a,
+            measured: m,
+            multipliers: mu,
+        });
     }
     let out = Out {
         kernel: info.name,
@@ -184,7 +218,8 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
         out.warm,
         out.warm + out.horizon
     );
-    for (a, m) in &out.results {
+    for r in &out.results {
+        let (a, m) = (&r.analysis, &r.measured);
         println!(
             "c0 = {} U: growth rate {:.4e} per unit time (sector j = {})",
             a.c0_over_u, a.growth_rate, a.most_unstable_j
@@ -227,6 +262,22 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
                 ),
                 _ => println!("  measured ({} d jitter, seed 1): not disordered by t = {}; {late}", m.amplitude, m.t_end),
             }
+        }
+        if let Some(mu) = &r.multipliers {
+            let lead: Vec<String> = mu
+                .leading
+                .iter()
+                .take(4)
+                .map(|z| format!("{:.6}", z[0].hypot(z[1])))
+                .collect();
+            println!(
+                "  flow map over t = {} ({} steps, dimension {}): largest |mu| {}; ln |mu| / t = {:.4e}",
+                mu.t,
+                mu.steps,
+                mu.dimension,
+                lead.join(", "),
+                mu.growth_rate
+            );
         }
     }
     Ok(ExitCode::SUCCESS)

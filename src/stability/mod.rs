@@ -185,3 +185,57 @@ impl KernelVisitor for AtC0Visit<'_> {
         }
     }
 }
+
+/// The flow map's multipliers: the eigenvalues (nalgebra's) of the
+/// Jacobian of the solver's flow over a time t from the base state
+/// ([`tangent::flow_jacobian`]), all sectors at once. In Poiseuille flow
+/// every layer slides at its own speed, so the base state is not periodic
+/// and these are not Floquet multipliers; ln |mu| / t of the largest is a
+/// finite-time growth rate, which tends to the leading sector's rate as t
+/// grows (while eps e^(rate t) stays small).
+#[derive(Debug, Clone, Serialize)]
+pub struct Multipliers {
+    pub t: f64,
+    pub steps: usize,
+    /// The state's dimension: 4 per fluid particle.
+    pub dimension: usize,
+    /// The largest multipliers by modulus, (re, im), at most 8.
+    pub leading: Vec<[f64; 2]>,
+    /// ln |mu| / t of the largest.
+    pub growth_rate: f64,
+}
+
+/// The multipliers of the flow over `t` about the base state at `c0`.
+pub fn multipliers(scene: &Scene, c0: f64, t: f64, eps: f64) -> Result<Multipliers> {
+    let info = scene.kernel_info()?;
+    let problem = Problem::resolve(&base_scene(scene, c0), info)?;
+    struct Visit<'a> {
+        problem: &'a Problem,
+        t: f64,
+        eps: f64,
+    }
+    impl KernelVisitor for Visit<'_> {
+        type Output = Multipliers;
+        fn visit<K: Kernel>(self) -> Multipliers {
+            let (m, steps) = tangent::flow_jacobian::<K>(self.problem, self.t, self.eps);
+            let mut mu: Vec<_> = m.complex_eigenvalues().iter().copied().collect();
+            mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+            Multipliers {
+                t: self.t,
+                steps,
+                dimension: m.nrows(),
+                leading: mu.iter().take(8).map(|z| [z.re, z.im]).collect(),
+                growth_rate: mu.first().map_or(f64::NAN, |z| z.norm().ln() / self.t),
+            }
+        }
+    }
+    Ok(kernels::with_kernel(
+        info.name,
+        Visit {
+            problem: &problem,
+            t,
+            eps,
+        },
+    )
+    .expect("the registry has a solver for every kernel it lists"))
+}
