@@ -134,7 +134,7 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     let info = scene.kernel_info().map_err(|e| args.scene.label(e))?;
     let problem = crate::problem::Problem::resolve(
-        &crate::stability::base_scene(&scene, 10.0 * scene.u),
+        &crate::stability::base_scene(&scene, 10.0 * scene.u).map_err(|e| args.scene.label(e))?,
         info,
     )
     .map_err(|e| args.scene.label(e))?;

@@ -57,7 +57,7 @@ pub fn measure(
     interval: f64,
 ) -> Result<Measured> {
     let series = |jitter: f64| -> Result<Vec<(f64, f64)>> {
-        let mut s = base_scene(scene, c0);
+        let mut s = base_scene(scene, c0)?;
         s.jitter = jitter;
         s.jitter_seed = seed;
         s.horizon = HorizonKind::Fixed;

@@ -1,0 +1,141 @@
+//! `shearsph stability`: the growth rate of perturbations of the sheared
+//! lattice by the solver's own step. Its parts are checked against each
+//! other where the mathematics says they must agree (a sector's rate is a
+//! property of its wavenumber, not of the strip; the rate does not depend
+//! on the finite difference's size), and its flags are guarded. The step's
+//! Jacobian against the pressure term linearised by hand is a unit test in
+//! src/solver/tangent.rs.
+
+mod common;
+use common::*;
+
+use shearsph::config::Scene;
+use shearsph::solver::tangent::Options;
+use shearsph::stability::{analyse, Request};
+
+/// A small scene (N = 4), quick to follow.
+fn small(columns: u32) -> Scene {
+    let mut s = Scene::builtin();
+    s.n_layers = 4;
+    s.columns = Some(columns);
+    s
+}
+
+fn rate(scene: &Scene, sector: u32, eps: f64) -> f64 {
+    let req = Request {
+        c0_over_u: vec![10.0],
+        sectors: vec![sector],
+        options: Options {
+            eps,
+            block: 50,
+            horizon: 60.0,
+            warm: 10.0,
+        },
+        amplitude: 1e-4,
+    };
+    let at = analyse(scene, &req).expect("the analysis runs");
+    assert_eq!(at[0].sectors.len(), 1);
+    at[0].sectors[0].growth_rate
+}
+
+/// The perturbation q = 2 pi / (5 d) is sector 1 of a 5-column strip and
+/// sector 2 of a 10-column one: the same mode of the same linear
+/// equations, so the same rate, whatever else the wider strip admits.
+#[test]
+fn a_sectors_rate_is_a_property_of_its_wavenumber_not_of_the_strip() {
+    let narrow = rate(&small(5), 1, 1e-7);
+    let wide = rate(&small(10), 2, 1e-7);
+    assert!(narrow.is_finite() && wide.is_finite());
+    assert!(
+        (narrow - wide).abs() <= 1e-3 * narrow.abs().max(1e-3),
+        "q d = 2 pi / 5: {narrow:e} on 5 columns against {wide:e} on 10"
+    );
+}
+
+/// In the linear regime the rate does not depend on the perturbation's
+/// size: 1e-6 and 1e-8 agree (round-off below, nonlinearity above).
+#[test]
+fn the_rate_does_not_depend_on_the_finite_differences_size() {
+    let scene = small(5);
+    let (a, b) = (rate(&scene, 1, 1e-6), rate(&scene, 1, 1e-8));
+    assert!(
+        (a - b).abs() <= 0.02 * a.abs().max(1e-3),
+        "eps 1e-6: {a:e}, eps 1e-8: {b:e}"
+    );
+}
+
+#[test]
+fn the_json_reports_the_rates_and_the_prediction() {
+    let o = shearsph(&[
+        "stability",
+        "--n",
+        "4",
+        "--columns",
+        "5",
+        "--c0-over-u",
+        "10,20",
+        "--horizon-t",
+        "30",
+        "--warm",
+        "5",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+    assert_eq!(v["kernel"], "monaghan");
+    assert_eq!(v["columns"], 5);
+    let results = v["results"].as_array().expect("results");
+    assert_eq!(results.len(), 2);
+    for r in results {
+        let rate = r["growth_rate"].as_f64().expect("a growth rate");
+        let sectors = r["sectors"].as_array().expect("sectors");
+        // Sectors j = 0 ..= columns / 2, the largest of their rates the
+        // reported one.
+        assert_eq!(sectors.len(), 3);
+        let top = sectors
+            .iter()
+            .map(|s| s["growth_rate"].as_f64().expect("a rate"))
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(rate, top);
+        let mode = r["mode"].as_array().expect("the mode");
+        assert!(!mode.is_empty());
+        match r["t_disorder_predicted"].as_f64() {
+            Some(t) => {
+                assert!(rate > 0.0 && (t * rate - (0.1 * 3f64.sqrt() / 1e-4).ln()).abs() < 1e-9)
+            }
+            None => assert!(rate <= 0.0),
+        }
+        assert!(r["measured"].is_null() && r["multipliers"].is_null());
+    }
+}
+
+/// Each flag's bound, named in the message with the flag.
+#[test]
+fn bad_stability_flags_are_refused_by_name() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--eps", "0"], "--eps"),
+        (&["--eps", "0.1"], "--eps"),
+        (&["--eps", "nan"], "--eps"),
+        (&["--block", "0"], "--block"),
+        (&["--horizon-t", "-1"], "--horizon-t"),
+        (&["--horizon-t", "inf"], "--horizon-t"),
+        (&["--measure-t-end", "0"], "--measure-t-end"),
+        (&["--warm", "-1"], "--warm"),
+        (&["--amplitude", "0.5"], "--amplitude"),
+        (&["--amplitude", "0"], "--amplitude"),
+        (&["--multipliers-t", "-1"], "--multipliers-t"),
+        (&["--multipliers-t", "1e9"], "--multipliers-t"),
+        (&["--c0-over-u", "0"], "--c0-over-u"),
+        (&["--c0-over-u", "1e9"], "--c0-over-u"),
+        (&["--sectors", "99"], "--sectors"),
+    ];
+    for (flags, name) in cases {
+        let mut args = vec!["stability", "--n", "4"];
+        args.extend_from_slice(flags);
+        let o = shearsph(&args);
+        assert!(!o.status.success(), "{flags:?} was accepted");
+        let err = stderr(&o);
+        assert!(err.contains(name), "{flags:?}: {err}");
+        assert!(!err.contains("panicked"), "{flags:?}: {err}");
+    }
+}
