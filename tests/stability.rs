@@ -66,8 +66,12 @@ fn the_rate_does_not_depend_on_the_finite_differences_size() {
 
 #[test]
 fn the_json_reports_the_rates_and_the_prediction() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("mode.svg");
     let o = shearsph(&[
         "stability",
+        "--mode-svg",
+        svg.to_str().unwrap(),
         "--n",
         "4",
         "--columns",
@@ -107,6 +111,14 @@ fn the_json_reports_the_rates_and_the_prediction() {
         }
         assert!(r["measured"].is_null() && r["multipliers"].is_null());
     }
+    // One picture per c0, a dot per fluid particle of the mode.
+    for c in ["10", "20"] {
+        let text = std::fs::read_to_string(dir.path().join(format!("mode-c0-{c}.svg")))
+            .expect("the mode's picture");
+        let dots = text.matches("<circle").count();
+        assert_eq!(dots, results[0]["mode"].as_array().unwrap().len(), "c0 {c}");
+    }
+    assert!(!svg.exists(), "with two c0 each file has its own name");
 }
 
 /// Each flag's bound, named in the message with the flag.

@@ -6,6 +6,7 @@
 pub mod figure4;
 pub mod history;
 pub mod law;
+pub mod mode;
 pub mod rules;
 pub mod run;
 pub mod sweep;

@@ -53,6 +53,10 @@ pub struct StabilityArgs {
     /// fluid particle of this length); 0: not computed.
     #[arg(long, default_value_t = 0.0)]
     pub multipliers_t: f64,
+    /// Write the most unstable mode's picture (SVG) here: with several c0,
+    /// one file each, named with `-c0-C` before the extension.
+    #[arg(long)]
+    pub mode_svg: Option<std::path::PathBuf>,
     /// Print JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -186,6 +190,37 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
             measured: m,
             multipliers: mu,
         });
+    }
+    if let Some(path) = &args.mode_svg {
+        for r in &results {
+            let a = &r.analysis;
+            let file = if results.len() == 1 {
+                path.clone()
+            } else {
+                let stem = path
+                    .file_stem()
+                    .map_or("mode".into(), |s| s.to_string_lossy().into_owned());
+                let ext = path
+                    .extension()
+                    .map_or("svg".into(), |s| s.to_string_lossy().into_owned());
+                path.with_file_name(format!("{stem}-c0-{}.{ext}", a.c0_over_u))
+            };
+            let title = format!(
+                "{} ({}), N = {}, c0 = {} U: the mode of sector j = {} (rate {:.3e})",
+                info.name,
+                problem.discretisation.label(),
+                scene.n_layers,
+                a.c0_over_u,
+                a.most_unstable_j,
+                a.growth_rate
+            );
+            let svg = crate::charts::mode::mode_svg(&a.mode, &title)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+            crate::output::atomic::write_atomic(&file, svg.as_bytes())?;
+            if !args.json {
+                eprintln!("wrote {}", file.display());
+            }
+        }
     }
     let out = Out {
         kernel: info.name,
