@@ -133,6 +133,30 @@ fn check(args: &StabilityArgs) -> Result<()> {
     Ok(())
 }
 
+/// The analysis with the flags' defaults, at no c0 yet: what `c0
+/// --stability` runs at each rule's c0.
+pub fn defaults() -> Request {
+    use clap::FromArgMatches;
+    let m = <StabilityArgs as clap::Args>::augment_args(clap::Command::new("stability"))
+        .get_matches_from(["stability"]);
+    let a = StabilityArgs::from_arg_matches(&m).expect("the defaults parse");
+    request(&a)
+}
+
+fn request(args: &StabilityArgs) -> Request {
+    Request {
+        c0_over_u: args.c0_over_u.clone(),
+        sectors: args.sectors.clone(),
+        options: Options {
+            eps: args.eps,
+            block: args.block,
+            horizon: args.horizon_t,
+            warm: args.warm,
+        },
+        amplitude: args.amplitude,
+    }
+}
+
 pub fn main(args: StabilityArgs) -> Result<ExitCode> {
     check(&args)?;
     let scene = args.scene.load()?;
@@ -149,17 +173,7 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
             columns / 2
         );
     }
-    let req = Request {
-        c0_over_u: args.c0_over_u.clone(),
-        sectors: args.sectors.clone(),
-        options: Options {
-            eps: args.eps,
-            block: args.block,
-            horizon: args.horizon_t,
-            warm: args.warm,
-        },
-        amplitude: args.amplitude,
-    };
+    let req = request(&args);
     let at = analyse(&scene, &req)?;
     let mut results = Vec::new();
     for a in at {
