@@ -374,9 +374,9 @@ impl SweepSpec {
         distinct(&name("c0_over_u"), &self.c0_over_u)?;
         distinct(&name("lattice"), &self.lattice)?;
         distinct(&name("jitter"), &self.jitter)?;
-        if self.jitter.iter().any(|&a| a != 0.0) {
-            bounds::SEEDS.check(&name("seeds"), self.seeds.into())?;
-        }
+        // Checked whether or not a start is jittered: a count out of its
+        // bound is an error wherever it is given, not only where it is used.
+        bounds::SEEDS.check(&name("seeds"), self.seeds.into())?;
         // The grid's size before the grid is built: a count of 1e9 points
         // is an error now, not gigabytes of points later.
         bounds::POINTS.check(
@@ -654,6 +654,14 @@ mod tests {
                     ..SweepSpec::default()
                 },
                 "at least 1",
+            ),
+            // out of its bound without a jittered start too
+            (
+                SweepSpec {
+                    seeds: 1_000_000_000,
+                    ..SweepSpec::default()
+                },
+                "above the bound of 1000",
             ),
             (
                 SweepSpec {
