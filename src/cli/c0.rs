@@ -77,58 +77,6 @@ pub struct C0Args {
     pub stability: bool,
 }
 
-/// One rule's c0 and the ordered lattice's growth there.
-#[derive(serde::Serialize)]
-struct OrderedAt {
-    rule: String,
-    c0_over_u: f64,
-    growth_rate: f64,
-    most_unstable_q_d: Option<f64>,
-    t_disorder_from_1e_4: Option<f64>,
-    failed: bool,
-}
-
-/// The stability of the ordered lattice at each rule's c0 (each distinct
-/// c0 analysed once).
-fn ordered_at(
-    scene: &crate::config::Scene,
-    t: &crate::problem::c0::C0Table,
-) -> Result<Vec<OrderedAt>> {
-    use crate::stability::{analyse, Request};
-    let defaults = crate::cli::stability::defaults();
-    let mut seen: Vec<(u64, crate::stability::AtC0)> = Vec::new();
-    let mut out = Vec::new();
-    for r in t.rows.iter().filter(|r| r.cost.is_some()) {
-        let c = r.c0_over_u;
-        if !seen.iter().any(|(b, _)| *b == c.to_bits()) {
-            let req = Request {
-                c0_over_u: vec![c],
-                ..defaults.clone()
-            };
-            let a = analyse(scene, &req)?.remove(0);
-            seen.push((c.to_bits(), a));
-        }
-        let a = &seen
-            .iter()
-            .find(|(b, _)| *b == c.to_bits())
-            .expect("analysed")
-            .1;
-        out.push(OrderedAt {
-            rule: r.rule.to_string(),
-            c0_over_u: c,
-            growth_rate: a.growth_rate,
-            most_unstable_q_d: a
-                .sectors
-                .iter()
-                .find(|s| s.j == a.most_unstable_j)
-                .map(|s| s.q_d),
-            t_disorder_from_1e_4: a.t_disorder_predicted,
-            failed: a.sectors.iter().any(|s| s.failed),
-        });
-    }
-    Ok(out)
-}
-
 pub fn main(args: C0Args) -> Result<ExitCode> {
     // `--c0 empirical` (or a scene's) asks for the solver's answer
     let asks_empirical = matches!(
@@ -144,7 +92,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     let t = table(&scene).map_err(|e| args.scene.label(e))?;
     let ordered = if args.stability {
-        Some(ordered_at(&scene, &t)?)
+        Some(crate::stability::ordered_at(&scene, &t)?)
     } else {
         None
     };
@@ -154,7 +102,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
             #[serde(flatten)]
             table: &'a crate::problem::c0::C0Table,
             #[serde(skip_serializing_if = "Option::is_none")]
-            ordered_lattice: Option<&'a Vec<OrderedAt>>,
+            ordered_lattice: Option<&'a Vec<crate::stability::OrderedAt>>,
         }
         let out = Out {
             table: &t,

@@ -27,19 +27,19 @@ pub struct StabilityArgs {
     #[arg(long, value_delimiter = ',')]
     pub sectors: Vec<u32>,
     /// Time over which the rate is measured, after --warm (scene units).
-    #[arg(long, default_value_t = 300.0)]
+    #[arg(long, default_value_t = Request::default().options.horizon)]
     pub horizon_t: f64,
     /// Time followed first, so the perturbation turns into its fastest-growing form.
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(long, default_value_t = Request::default().options.warm)]
     pub warm: f64,
     /// The perturbation's size (d and U) the finite differences use.
-    #[arg(long, default_value_t = 1e-7)]
+    #[arg(long, default_value_t = Request::default().options.eps)]
     pub eps: f64,
     /// Steps between renormalisations of the perturbation.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = Request::default().options.block)]
     pub block: u64,
     /// The jitter amplitude (d) the predicted time to disorder is for.
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(long, default_value_t = Request::default().amplitude)]
     pub amplitude: f64,
     /// Also run the scene from a jitter of --amplitude and fit the growth
     /// of its rms displacement from the lattice (the check against the solver).
@@ -131,16 +131,6 @@ fn check(args: &StabilityArgs) -> Result<()> {
         bail!("--sectors: give at most 1000");
     }
     Ok(())
-}
-
-/// The analysis with the flags' defaults, at no c0 yet: what `c0
-/// --stability` runs at each rule's c0.
-pub fn defaults() -> Request {
-    use clap::FromArgMatches;
-    let m = <StabilityArgs as clap::Args>::augment_args(clap::Command::new("stability"))
-        .get_matches_from(["stability"]);
-    let a = StabilityArgs::from_arg_matches(&m).expect("the defaults parse");
-    request(&a)
 }
 
 fn request(args: &StabilityArgs) -> Request {

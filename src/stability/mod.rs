@@ -60,7 +60,8 @@ pub struct AtC0 {
     pub mode: Vec<[f64; 4]>,
 }
 
-/// What is analysed, beyond the scene.
+/// What is analysed, beyond the scene. Its `Default` is `shearsph
+/// stability`'s defaults (at c0 = 10 U), which the command's flags read.
 #[derive(Debug, Clone)]
 pub struct Request {
     pub c0_over_u: Vec<f64>,
@@ -69,6 +70,71 @@ pub struct Request {
     pub options: Options,
     /// The jitter the predicted time to disorder is for, in d.
     pub amplitude: f64,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        Request {
+            c0_over_u: vec![10.0],
+            sectors: Vec::new(),
+            options: Options {
+                eps: 1e-7,
+                block: 50,
+                horizon: 300.0,
+                warm: 20.0,
+            },
+            amplitude: 1e-4,
+        }
+    }
+}
+
+/// One rule's c0 and the ordered lattice's growth there.
+#[derive(Debug, Clone, Serialize)]
+pub struct OrderedAt {
+    pub rule: String,
+    pub c0_over_u: f64,
+    pub growth_rate: f64,
+    pub most_unstable_q_d: Option<f64>,
+    pub t_disorder_from_1e_4: Option<f64>,
+    pub failed: bool,
+}
+
+/// The stability of the ordered lattice at each of a c0 table's rules'
+/// c0 (`shearsph c0 --stability`), with the analysis's defaults; each
+/// distinct c0 analysed once.
+pub fn ordered_at(scene: &Scene, t: &crate::problem::c0::C0Table) -> Result<Vec<OrderedAt>> {
+    let defaults = Request::default();
+    let mut seen: Vec<(u64, AtC0)> = Vec::new();
+    let mut out = Vec::new();
+    for r in t.rows.iter().filter(|r| r.cost.is_some()) {
+        let c = r.c0_over_u;
+        if !seen.iter().any(|(b, _)| *b == c.to_bits()) {
+            let req = Request {
+                c0_over_u: vec![c],
+                ..defaults.clone()
+            };
+            let a = analyse(scene, &req)?.remove(0);
+            seen.push((c.to_bits(), a));
+        }
+        let a = &seen
+            .iter()
+            .find(|(b, _)| *b == c.to_bits())
+            .expect("analysed")
+            .1;
+        out.push(OrderedAt {
+            rule: r.rule.to_string(),
+            c0_over_u: c,
+            growth_rate: a.growth_rate,
+            most_unstable_q_d: a
+                .sectors
+                .iter()
+                .find(|s| s.j == a.most_unstable_j)
+                .map(|s| s.q_d),
+            t_disorder_from_1e_4: a.t_disorder_predicted,
+            failed: a.sectors.iter().any(|s| s.failed),
+        });
+    }
+    Ok(out)
 }
 
 /// The scene the analysis linearises about: the perfect lattice in the
