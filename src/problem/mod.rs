@@ -18,7 +18,9 @@ use crate::analytic::Poiseuille;
 use crate::config::{invalid, positive, C0Spec, Scene};
 /// The configuration's value types a problem carries, for the solver, which
 /// reads the problem only.
-pub use crate::config::{Initial, PressureForm, SceneError, ViscousNormalisation, WallVelocity};
+pub use crate::config::{
+    ClassRules, Initial, PressureForm, SceneError, ViscousNormalisation, WallVelocity,
+};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, Kernel, KernelInfo, KernelVisitor};
 use crate::kernels;

@@ -7,8 +7,8 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use super::{Sample, Window};
-use crate::config::ClassRules;
 use crate::problem::cost::{DtLimit, TimeStep};
+use crate::problem::ClassRules;
 use crate::problem::Problem;
 
 /// Why a run failed.
