@@ -459,6 +459,11 @@ fn print_answer(a: &crate::empirical::Answer, search: &Search) {
             f(lo),
             f(hi)
         );
+    } else {
+        println!(
+            "disordered law: not fitted: fewer than 3 settled trials whose compaction above the \
+             lattice's own is at least 1e-3 and at least eps0, spanning a factor 1.5 in c0"
+        );
     }
     println!(
         "{:<20} {:>11} {:>9} {:>16} {:>16} {:>10} {:>10} {:>9} {:>8}",
