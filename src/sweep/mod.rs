@@ -18,6 +18,7 @@
 //! it when the sweep ends or stops.
 
 pub mod axes;
+mod check;
 mod grid;
 mod row;
 mod shard;
@@ -26,6 +27,7 @@ pub mod store;
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
 pub use axes::{At, Discretisation, HOverD, HOverDValue, Start};
+pub use check::check_points;
 pub use grid::{grid_flag, label_scene, Origins, Point, PointC0, SweepSpec, Unlabelled};
 pub use row::{pool_over_seeds, pool_rows, OverSeeds, Row};
 pub use shard::{Shard, ShardArg};
@@ -372,67 +374,6 @@ pub fn run_points_with(
     Ok((rows, finished < todo.len()))
 }
 
-/// Every point's scene resolved before anything runs (the base scene with
-/// the point's values), so that bad input is an error before the grid,
-/// not a grid of failed rows: a point whose scene is invalid (a field out
-/// of its range, a run that would take too long or too much memory, one
-/// shorter than a time step) is refused, naming the first such point, how
-/// many share its fault, the field and where `origins` says it came from.
-/// A c0 rule that has no c0 at a point is not bad input but that point's
-/// finding: its row says so. Checks `stop` as it goes (an interrupted check
-/// is Ok: nothing has run).
-pub fn check_points(
-    points: &[&Point],
-    base: &toml::Table,
-    rules: &ClassRules,
-    origins: &dyn Origins,
-    stop: &AtomicBool,
-) -> Result<()> {
-    let mut first: Option<(String, SceneError)> = None;
-    let mut more = 0usize;
-    for p in points {
-        if stop.load(Ordering::Relaxed) {
-            return Ok(());
-        }
-        let Err(e) = check_point(p, base, rules) else {
-            continue;
-        };
-        match &first {
-            None => first = Some((p.id(), e)),
-            Some((_, f)) if f.field() == e.field() => more += 1,
-            Some(_) => {}
-        }
-    }
-    let Some((id, e)) = first else {
-        return Ok(());
-    };
-    let others = if more > 0 {
-        format!(
-            " (and {more} more of the {} points with this field)",
-            points.len()
-        )
-    } else {
-        String::new()
-    };
-    Err(anyhow::Error::new(label_scene(e, origins)).context(format!(
-        "sweep point {id}{others} is not a valid scene; nothing was run"
-    )))
-}
-
-/// One point's scene checked as [`run_point`] will resolve it: Ok for a
-/// point that runs, or whose c0 rule has no c0 there (its row says so).
-fn check_point(point: &Point, base: &toml::Table, rules: &ClassRules) -> Result<(), SceneError> {
-    let scene = point.scene_classed(base, rules)?;
-    let info = scene.kernel_info()?;
-    match Problem::resolve(&scene, info) {
-        Ok(p) => p.check_duration(),
-        Err(SceneError::Invalid { field: "c0", .. }) if matches!(scene.c0, C0Spec::Rule { .. }) => {
-            Ok(())
-        }
-        Err(e) => Err(e),
-    }
-}
-
 /// What a sweep run did.
 #[derive(Debug)]
 pub struct SweepRun {
@@ -626,50 +567,4 @@ fn sweep_in(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shard_parses_and_partitions() {
-        let s: Shard = "1/3".parse().unwrap();
-        assert_eq!((s.k, s.n), (1, 3));
-        assert!(s.contains(4) && !s.contains(3));
-        for bad in ["3/3", "1", "a/2", "0/0", "-1/2"] {
-            assert!(bad.parse::<Shard>().is_err(), "{bad}");
-        }
-    }
-
-    #[test]
-    fn classes_order_their_faults() {
-        assert_eq!(classify(0.01, 0.0, 0.05, 0.02), Class::Ok);
-        assert_eq!(classify(0.06, 0.0, 0.05, 0.02), Class::Inaccurate);
-        assert_eq!(classify(0.06, 0.03, 0.05, 0.02), Class::OverCompressed);
-        assert_eq!(classify(f64::NAN, 0.0, 0.05, 0.02), Class::Failed);
-        for c in Class::ALL {
-            assert_eq!(Class::parse(c.name()), Some(c));
-        }
-    }
-
-    #[test]
-    fn grid_ids_are_stable_and_distinct() {
-        let spec = SweepSpec {
-            c0: vec!["rule10".into()],
-            c0_over_u: vec![0.5, 3.0],
-            ..SweepSpec::default()
-        }
-        .resolved()
-        .unwrap();
-        let points = spec.points();
-        let ids: std::collections::BTreeSet<String> = points.iter().map(Point::id).collect();
-        assert_eq!(ids.len(), points.len());
-        assert!(
-            ids.contains("monaghan/n=10/re=30/alpha=0.1/c0=rule10"),
-            "{ids:?}"
-        );
-        assert!(
-            ids.contains("morris/n=10/re=1/alpha=0.1/c0=0.5U"),
-            "{ids:?}"
-        );
-        assert!(points.iter().enumerate().all(|(i, p)| p.index == i));
-    }
-}
+mod tests;

@@ -1,0 +1,132 @@
+//! The bench's budget: its estimated time on one core and the checks of
+//! its options against their bounds, before anything runs.
+
+use anyhow::{bail, Result};
+
+use super::{scene, scene_for, Options};
+use crate::config::Scene;
+
+/// The longest a bench may take by [`estimated_seconds`]: an hour on one
+/// core, a scene's own default bound (`max_run_s`).
+pub const MAX_BENCH_S: f64 = 3600.0;
+
+/// Steps per measurement of a scene of `particles` particles.
+pub(super) fn steps_for(opts: &Options, particles: usize) -> u64 {
+    opts.steps
+        .unwrap_or_else(|| ((opts.particle_steps / particles as f64).ceil() as u64).max(10))
+}
+
+/// The estimated seconds of every measurement of `opts` on one core
+/// (kernels x particle counts x thread counts x repeats, each steps x
+/// particles x neighbours x 2 passes at [`crate::problem::cost::EST_S_PER_PAIR_PASS`],
+/// as a scene's run-time guard counts it: it errs long).
+pub fn estimated_seconds(opts: &Options) -> Result<f64> {
+    let mut total = 0.0;
+    for kernel in &opts.kernels {
+        let base = scene(kernel);
+        let info = base.kernel_info()?;
+        let h = base.h_over_d * base.d;
+        let neighbours = crate::problem::cost::listed_neighbours(
+            base.lattice,
+            base.d,
+            h,
+            info.support,
+            base.skin,
+        );
+        for &target in &opts.particles {
+            // The scene holds at least `target` particles: counted as that
+            // (its few more change the estimate by a layer's worth).
+            let steps = steps_for(opts, target) as f64;
+            total += steps
+                * target as f64
+                * neighbours
+                * 2.0
+                * crate::problem::cost::EST_S_PER_PAIR_PASS
+                * (opts.threads.len() * opts.repeats) as f64;
+        }
+    }
+    Ok(total)
+}
+
+/// Every count of `opts` within its bound, before any work: at least one
+/// of each, thread counts within [`bounds::threads`], repeats within
+/// [`bounds::REPEATS`], no kernel, particle count or thread count given
+/// twice, and the whole bench estimated within [`MAX_BENCH_S`].
+pub fn check(opts: &Options) -> Result<()> {
+    use crate::config::bounds;
+    if opts.steps == Some(0) {
+        bail!("--steps must be at least 1: a measurement of no steps has no throughput");
+    }
+    if opts.repeats == 0 {
+        bail!("--repeats must be at least 1");
+    }
+    if opts.threads.contains(&0) {
+        bail!("--threads must be at least 1");
+    }
+    bounds::REPEATS.check_usize("--repeats", opts.repeats)?;
+    let threads = bounds::threads();
+    for &t in &opts.threads {
+        threads.check_usize("--threads", t)?;
+    }
+    bounds::distinct("--kernels", &opts.kernels)?;
+    bounds::distinct("--particles", &opts.particles)?;
+    bounds::distinct("--threads", &opts.threads)?;
+    // Each scene within the memory bound, then the whole within the time's.
+    for kernel in &opts.kernels {
+        for &target in &opts.particles {
+            check_memory(&scene_for(kernel, opts.disordered), target)?;
+        }
+    }
+    let est = estimated_seconds(opts)?;
+    if est.is_nan() || est > MAX_BENCH_S {
+        let what = match opts.steps {
+            Some(s) => format!("--steps {s}"),
+            None => "the bench's measurements".to_string(),
+        };
+        bail!(
+            "{what}: the bench would take about {} on one core ({} kernel(s) x {} particle count(s) x \
+             {} thread count(s) x {} repeat(s), each steps x particles x neighbours at {} ns per pair \
+             and pass), over the bound of {}; give fewer --steps (default: about {:.0e} particle-steps \
+             a measurement), --particles, --threads or --repeats",
+            crate::problem::cost::human_seconds(est),
+            opts.kernels.len(),
+            opts.particles.len(),
+            opts.threads.len(),
+            opts.repeats,
+            crate::problem::cost::EST_S_PER_PAIR_PASS * 1e9,
+            crate::problem::cost::human_seconds(MAX_BENCH_S),
+            opts.particle_steps
+        );
+    }
+    Ok(())
+}
+
+/// A scene of `target` particles within the memory a run may take,
+/// refused before the search for its N, with the estimate: a count the
+/// memory bound (or the lattice's u32 counts) cannot hold.
+pub(super) fn check_memory(scene: &Scene, target: usize) -> Result<()> {
+    let info = scene.kernel_info()?;
+    let h = scene.h_over_d * scene.d;
+    // Refused before the search, with the estimate: a count the memory
+    // bound (or the lattice's u32 counts) cannot hold.
+    let neighbours = crate::problem::cost::listed_neighbours(
+        scene.lattice,
+        scene.d,
+        h,
+        info.support,
+        scene.skin,
+    );
+    let bytes = crate::problem::cost::memory_bytes(target as f64, neighbours, 0.0, 0.0);
+    let max = crate::problem::cost::MAX_RUN_BYTES;
+    if !(bytes <= max && (target as f64) <= crate::problem::cost::MAX_PARTICLES) {
+        bail!(
+            "--particles {}: the scene would take about {} of memory ({} neighbours each), over the \
+             bound of {}; give fewer particles",
+            crate::format::fmt_value(target as f64),
+            crate::problem::cost::human_bytes(bytes),
+            neighbours.round(),
+            crate::problem::cost::human_bytes(max)
+        );
+    }
+    Ok(())
+}
