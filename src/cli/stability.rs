@@ -51,8 +51,12 @@ pub struct StabilityArgs {
     /// Also the multipliers of the flow over this time from the base state
     /// (the eigenvalues of its Jacobian by finite differences: 8 runs per
     /// fluid particle of this length); 0: not computed.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, conflicts_with = "floquet")]
     pub multipliers_t: f64,
+    /// The multipliers over one lattice period T = d N^2 / U, over which
+    /// the steady profile's lattice repeats: the Floquet multipliers.
+    #[arg(long)]
+    pub floquet: bool,
     /// Write the most unstable mode's picture (SVG) here: with several c0,
     /// one file each, named with `-c0-C` before the extension.
     #[arg(long)]
@@ -179,13 +183,13 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
         } else {
             None
         };
-        let mu = if args.multipliers_t > 0.0 {
-            Some(multipliers(
-                &scene,
-                a.c0_over_u * scene.u,
-                args.multipliers_t,
-                args.eps,
-            )?)
+        let over = if args.floquet {
+            a.period
+        } else {
+            args.multipliers_t
+        };
+        let mu = if over > 0.0 {
+            Some(multipliers(&scene, a.c0_over_u * scene.u, over, args.eps)?)
         } else {
             None
         };
@@ -260,8 +264,8 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
     for r in &out.results {
         let (a, m) = (&r.analysis, &r.measured);
         println!(
-            "c0 = {} U: growth rate {:.4e} per unit time (sector j = {})",
-            a.c0_over_u, a.growth_rate, a.most_unstable_j
+            "c0 = {} U: growth rate {:.4e} per unit time, {:.3} per period T = d N^2 / U = {} (sector j = {})",
+            a.c0_over_u, a.growth_rate, a.growth_rate_per_period, a.period, a.most_unstable_j
         );
         for s in &a.sectors {
             println!(
@@ -310,8 +314,9 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
                 .map(|z| format!("{:.6}", z[0].hypot(z[1])))
                 .collect();
             println!(
-                "  flow map over t = {} ({} steps, dimension {}): largest |mu| {}; ln |mu| / t = {:.4e}",
+                "  flow map over t = {}{} ({} steps, dimension {}): largest |mu| {}; ln |mu| / t = {:.4e}",
                 mu.t,
+                if mu.t == a.period { " = T (Floquet multipliers)" } else { "" },
                 mu.steps,
                 mu.dimension,
                 lead.join(", "),

@@ -51,6 +51,11 @@ pub struct AtC0 {
     /// The largest rate and its sector.
     pub growth_rate: f64,
     pub most_unstable_j: u32,
+    /// The steady profile's period T = d N^2 / U (SPEC (19): in T every
+    /// layer moves a whole number of d, so the sheared lattice repeats).
+    pub period: f64,
+    /// growth_rate T: the e-folds per period.
+    pub growth_rate_per_period: f64,
     /// ln(0.1 sqrt 3 / a) / growth_rate: when a jitter of amplitude a (d)
     /// reaches dy_rms = 0.1 d at the leading rate (a jitter of amplitude a
     /// starts at dy_rms = a / sqrt 3); none where the rate is not positive.
@@ -261,6 +266,8 @@ impl KernelVisitor for AtC0Visit<'_> {
             sectors: runs.into_iter().map(|(s, _)| s).collect(),
             growth_rate: rate,
             most_unstable_j: j,
+            period: period(p),
+            growth_rate_per_period: rate * period(p),
             t_disorder_predicted: (rate > 0.0 && a > 0.0)
                 .then(|| (DISORDER_DY_RMS * 3f64.sqrt() / a).ln() / rate),
             mode,
@@ -268,13 +275,22 @@ impl KernelVisitor for AtC0Visit<'_> {
     }
 }
 
+/// The lattice period T = d N^2 / U of `problem`'s steady profile: layer
+/// n moves (N^2 - n^2) d in T, a whole number of lattice spacings, so the
+/// sheared lattice is periodic with T (SPEC (19)).
+pub fn period(problem: &Problem) -> f64 {
+    let n = f64::from(problem.scene.n_layers);
+    problem.lattice.d * n * n / problem.flow.u
+}
+
 /// The flow map's multipliers: the eigenvalues (nalgebra's) of the
 /// Jacobian of the solver's flow over a time t from the base state
-/// ([`tangent::flow_jacobian`]), all sectors at once. In Poiseuille flow
-/// every layer slides at its own speed, so the base state is not periodic
-/// and these are not Floquet multipliers; ln |mu| / t of the largest is a
-/// finite-time growth rate, which tends to the leading sector's rate as t
-/// grows (while eps e^(rate t) stays small).
+/// ([`tangent::flow_jacobian`]), all sectors at once. Over the period
+/// T = d N^2 / U ([`period`]) the steady profile's lattice repeats, so the
+/// flow map over T is the monodromy matrix and these are its Floquet
+/// multipliers (up to the solver's base not being exactly the analytic
+/// state: its own pulsation, and its round-off growing); ln |mu| / t of the
+/// largest is the growth rate. Over another t it is a finite-time rate.
 #[derive(Debug, Clone, Serialize)]
 pub struct Multipliers {
     pub t: f64,
