@@ -172,6 +172,7 @@ fn bad_stability_flags_are_refused_by_name() {
         (&["--c0-over-u", "0"], "--c0-over-u"),
         (&["--c0-over-u", "1e9"], "--c0-over-u"),
         (&["--sectors", "99"], "--sectors"),
+        (&["--n", "20", "--floquet"], "--floquet"),
     ];
     for (flags, name) in cases {
         let mut args = vec!["stability", "--n", "4"];

@@ -167,6 +167,9 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
             columns / 2
         );
     }
+    if args.floquet || args.multipliers_t > 0.0 {
+        crate::stability::check_jacobian(&problem)?;
+    }
     let req = request(&args);
     let at = analyse(&scene, &req)?;
     let mut results = Vec::new();

@@ -13,7 +13,10 @@
 //! with a generic pattern of that q (cos and sin phases that vary from
 //! layer to layer, in both displacement components) and followed on its
 //! own. The rate is the leading Lyapunov exponent of the sector over the
-//! horizon, in the scene's units (1/t, t in d/U for U = d = 1).
+//! horizon, in the scene's units (1/t, t in d/U for U = d = 1). The strip
+//! is the one a jittered start of the scene runs on (2B wide) unless the
+//! scene sets `columns`. Over the period T = d N^2 / U the base repeats:
+//! [`multipliers`] gives the flow map's Floquet multipliers there.
 
 use anyhow::{bail, Result};
 use serde::Serialize;
@@ -303,10 +306,32 @@ pub struct Multipliers {
     pub growth_rate: f64,
 }
 
+/// The largest state the flow map's Jacobian is built for: 400 fluid
+/// particles, a 1600 x 1600 matrix (20 MB, its eigenvalues in seconds)
+/// and 3200 runs of the solver.
+pub const MAX_JACOBIAN_DIMENSION: usize = 1600;
+
+/// Err when `problem`'s flow map Jacobian would be above
+/// [`MAX_JACOBIAN_DIMENSION`]: checked before any run.
+pub fn check_jacobian(problem: &Problem) -> Result<()> {
+    let lat = &problem.lattice;
+    let dimension = 4 * lat.fluid_layers() as usize * lat.columns as usize;
+    if dimension > MAX_JACOBIAN_DIMENSION {
+        bail!(
+            "--floquet / --multipliers-t: the flow map's Jacobian would be {dimension} x {dimension} \
+             ({} fluid particles, 4 components each: 2 runs of the solver per column), above the \
+             bound of {MAX_JACOBIAN_DIMENSION}; give fewer --columns or a smaller --n",
+            dimension / 4
+        );
+    }
+    Ok(())
+}
+
 /// The multipliers of the flow over `t` about the base state at `c0`.
 pub fn multipliers(scene: &Scene, c0: f64, t: f64, eps: f64) -> Result<Multipliers> {
     let info = scene.kernel_info()?;
     let problem = Problem::resolve(&base_scene(scene, c0)?, info)?;
+    check_jacobian(&problem)?;
     struct Visit<'a> {
         problem: &'a Problem,
         t: f64,
