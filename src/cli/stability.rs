@@ -66,8 +66,10 @@ pub struct StabilityArgs {
     pub json: bool,
 }
 
+/// One c0's analysis with what `--measure` and `--floquet` /
+/// `--multipliers-t` added, as the JSON shows it.
 #[derive(Serialize)]
-struct Result1 {
+struct AtC0Out {
     #[serde(flatten)]
     analysis: AtC0,
     measured: Option<Measured>,
@@ -87,7 +89,7 @@ struct Out<'a> {
     warm: f64,
     horizon: f64,
     amplitude: f64,
-    results: Vec<Result1>,
+    results: Vec<AtC0Out>,
 }
 
 fn check(args: &StabilityArgs) -> Result<()> {
@@ -196,7 +198,7 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
         } else {
             None
         };
-        results.push(Result1 {
+        results.push(AtC0Out {
             analysis: a,
             measured: m,
             multipliers: mu,
