@@ -155,32 +155,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
         println!("the scene's own c0 ({}) does not resolve: {e}", t.scene_c0);
     }
     if let Some(rows) = &ordered {
-        println!();
-        println!(
-            "the ordered lattice at each c0 (shearsph stability, docs/stability.md): the leading growth rate of a perturbation of the perfect sheared lattice, and when a 1e-4 d jitter has disordered it (dy_rms = 0.1 d); past that the derived rules' premise, the ordered lattice, no longer holds"
-        );
-        println!(
-            "{:<24} {:>10} {:>12} {:>10} {:>12}",
-            "rule", "c0/U", "growth rate", "q d", "t_disorder"
-        );
-        for o in rows {
-            let tail = if o.failed {
-                "   the perfect lattice's run fails at this c0".to_string()
-            } else {
-                match o.t_disorder_from_1e_4 {
-                    Some(t) => format!(" {t:>12.0}"),
-                    None => format!(" {:>12}", "stable"),
-                }
-            };
-            println!(
-                "{:<24} {:>10.4} {:>12.3e} {:>10}{tail}",
-                o.rule,
-                o.c0_over_u,
-                o.growth_rate,
-                o.most_unstable_q_d
-                    .map_or("-".into(), |q| format!("{q:.3}"))
-            );
-        }
+        super::stability::print_ordered(rows);
     }
     Ok(ExitCode::SUCCESS)
 }
