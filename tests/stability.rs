@@ -184,3 +184,29 @@ fn bad_stability_flags_are_refused_by_name() {
         assert!(!err.contains("panicked"), "{flags:?}: {err}");
     }
 }
+
+/// A c0 at which the perfect lattice's own run fails is said to be that,
+/// not a stable ordered state (the composite kernel, square h = d, N = 4,
+/// Re = 10, 30 U: every sector's run fails).
+#[test]
+fn a_failed_base_is_not_called_stable() {
+    let o = shearsph(&[
+        "stability",
+        "--kernel",
+        "composite",
+        "--lattice",
+        "square",
+        "--n",
+        "4",
+        "--re",
+        "10",
+        "--c0-over-u",
+        "30",
+        "--horizon-t",
+        "50",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("every sector's run failed"), "{out}");
+    assert!(!out.contains("ordered state holds"), "{out}");
+}

@@ -288,6 +288,9 @@ pub fn main(args: StabilityArgs) -> Result<ExitCode> {
                 "  a {} d jitter reaches dy_rms = 0.1 d at t = {t:.0} at that rate",
                 out.amplitude
             ),
+            None if !a.growth_rate.is_finite() => println!(
+                "  every sector's run failed: the perfect lattice itself does not last at this c0, no ordered state to follow"
+            ),
             None => println!("  no sector grows: the ordered state holds at this c0"),
         }
         if let Some(m) = m {

@@ -104,6 +104,7 @@ pub struct OrderedAt {
     pub growth_rate: f64,
     pub most_unstable_q_d: Option<f64>,
     pub t_disorder_from_1e_4: Option<f64>,
+    /// Every sector's run failed: the perfect lattice itself does not last.
     pub failed: bool,
 }
 
@@ -139,7 +140,7 @@ pub fn ordered_at(scene: &Scene, t: &crate::problem::c0::C0Table) -> Result<Vec<
                 .find(|s| s.j == a.most_unstable_j)
                 .map(|s| s.q_d),
             t_disorder_from_1e_4: a.t_disorder_predicted,
-            failed: a.sectors.iter().any(|s| s.failed),
+            failed: !a.growth_rate.is_finite(),
         });
     }
     Ok(out)
