@@ -103,6 +103,7 @@ fn index_references_every_figure_and_table() {
         "empirical_c0.csv",
         "empirical_c0_trials.csv",
         "runs.csv",
+        "ordered_lattice.json",
         "verdicts.json",
         "report.toml",
     ]
@@ -534,4 +535,55 @@ fn an_existing_report_is_kept_without_force() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--force"));
     assert_eq!(std::fs::read(dir.join("index.html")).unwrap(), before);
+}
+
+/// The ordered lattice beside the answer: per kernel and verdict Re, the
+/// growth of perturbations of the perfect sheared lattice at the derived
+/// and rule10 c0 (the quick config's Re 1 and 10), in the data and in the
+/// first screen's words.
+#[test]
+fn the_answer_says_how_long_the_ordered_lattice_lasts() {
+    let dir = report_dir();
+    let rows: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("ordered_lattice.json")).unwrap())
+            .unwrap();
+    let rows = rows.as_array().expect("rows");
+    // Every kernel with the paper's discretisation generated.
+    let kernels = KERNELS
+        .iter()
+        .filter(|k| shearsph::report::papers(k).is_some())
+        .count();
+    assert_eq!(rows.len(), kernels * 2 * 2);
+    for r in rows {
+        let rule = r["rule"].as_str().unwrap();
+        assert!(rule == "derived" || rule == "rule10", "{rule}");
+        if rule == "rule10" {
+            assert_eq!(r["c0_over_u"].as_f64(), Some(10.0));
+        }
+        match (r["c0_over_u"].as_f64(), r["growth_rate"].as_f64()) {
+            // A rate, and where it is positive the time a 1e-4 d jitter
+            // takes at it.
+            (Some(_), Some(g)) => {
+                let t = r["t_disorder"].as_f64();
+                assert_eq!(t.is_some(), g > 0.0, "{r}");
+                if let Some(t) = t {
+                    assert!(
+                        (t * g - (0.1 * 3f64.sqrt() / 1e-4).ln()).abs() < 1e-9,
+                        "{r}"
+                    );
+                }
+            }
+            // No c0, or a base that does not last: said why.
+            _ => assert!(r["note"].as_str().is_some_and(|n| !n.is_empty()), "{r}"),
+        }
+    }
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let said = html
+        .matches("The ordered lattice the derived rules assume")
+        .count();
+    assert_eq!(
+        said,
+        KERNELS.len() * 2,
+        "one sentence per kernel and verdict Re"
+    );
 }

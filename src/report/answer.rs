@@ -186,6 +186,11 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
                 s.push(format!("What would allow one: {w}."));
             }
         }
+        if let Some(o) =
+            super::stability::sentence(&d.ordered, d.infos[ki].name, d.config.empirical.re[ri])
+        {
+            s.push(o);
+        }
         s.push(format!(
             "Horizon: each run went past the start-up ({}) to its stationary window, t = {} to {} ({} of {} runs stationary; docs/stationary.md).",
             fmt_num(a.horizon.t_startup),

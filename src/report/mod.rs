@@ -17,6 +17,7 @@ mod figures;
 mod html;
 pub mod law;
 mod plan;
+pub mod stability;
 pub(crate) mod tables;
 mod verdict;
 mod write;
@@ -76,6 +77,8 @@ pub struct ReportData {
     pub jobs: usize,
     /// The law of the minimal c0, when a `shearsph law` folder was given.
     pub law: Option<law::LawSection>,
+    /// The ordered lattice's growth at the derived and rule10 c0.
+    pub ordered: Vec<stability::Ordered>,
 }
 
 /// Run the report into `out`. `stop` (Ctrl-C) ends it early with an error
@@ -172,6 +175,15 @@ pub fn run(
     let table2 = infos.iter().map(|i| tables::table2(i)).collect();
     let c0_compare = tables::c0_compare(config, &plan, &infos, &rows)?;
     let verdicts = verdict::verdicts(config, &infos, &empirical, &c0_compare);
+
+    // 4. The ordered lattice's stability at the derived and rule10 c0.
+    let Some(ordered) = stability::ordered_all(config, &infos, quick, stop)? else {
+        return Err(interrupted());
+    };
+    log(&format!(
+        "report: the ordered lattice's stability done at {:.1} s",
+        start.elapsed().as_secs_f64()
+    ));
     let data = ReportData {
         config: config.clone(),
         plan,
@@ -188,6 +200,7 @@ pub fn run(
         wall_s: start.elapsed().as_secs_f64(),
         jobs: opts.par.jobs,
         law,
+        ordered,
     };
     write::write(&data, out)?;
     log(&format!(

@@ -68,6 +68,10 @@ fn runs(d: &ReportData, f: &Folder) -> Result<()> {
         &toml::to_string(&d.config).expect("a config serialises"),
     )?;
     f.put("runs.csv", &store::rows_csv(&d.rows))?;
+    f.put(
+        "ordered_lattice.json",
+        &serde_json::to_string_pretty(&d.ordered)?,
+    )?;
     let mut jsonl = String::new();
     for r in &d.rows {
         jsonl.push_str(&serde_json::to_string(r)?);

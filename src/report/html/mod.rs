@@ -159,7 +159,7 @@ fn method(h: &mut String, d: &ReportData) {
         "<li>Scenes: the built-in scene with {}; start-up from rest, compared with the series solution.</li>",
         esc(&scene_fields.join(", "))
     );
-    let _ = writeln!(h, "<li>The config of this run: <a href=\"report.toml\">report.toml</a>; every run: <a href=\"runs.csv\">runs.csv</a> (also <a href=\"runs.jsonl\">runs.jsonl</a>); the verdicts as data: <a href=\"verdicts.json\">verdicts.json</a>, the first screen's words: <a href=\"answer.json\">answer.json</a>.</li>");
+    let _ = writeln!(h, "<li>The config of this run: <a href=\"report.toml\">report.toml</a>; every run: <a href=\"runs.csv\">runs.csv</a> (also <a href=\"runs.jsonl\">runs.jsonl</a>); the verdicts as data: <a href=\"verdicts.json\">verdicts.json</a>, the first screen's words: <a href=\"answer.json\">answer.json</a>; the ordered lattice's growth at the derived and rule10 c0 (shearsph stability): <a href=\"ordered_lattice.json\">ordered_lattice.json</a>.</li>");
     h.push_str("</ul>\n");
 }
 
