@@ -15,6 +15,7 @@ use serde::Serialize;
 
 use super::{base_scene, DISORDER_DY_RMS};
 use crate::config::{HorizonKind, Scene};
+use crate::law::fit::least_squares;
 use crate::run::run_scene;
 use crate::solver::{Observer, Sample};
 
@@ -97,15 +98,10 @@ pub fn measure(
     })
 }
 
-/// The least-squares slope of ln v against t.
+/// The least-squares slope of ln v against t ([`least_squares`]); NaN
+/// when the points cannot fit a line.
 fn slope(pts: &[(f64, f64)]) -> f64 {
-    let n = pts.len() as f64;
-    let (st, sl) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1.ln()));
-    let (mt, ml) = (st / n, sl / n);
-    let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), p| {
-        (a + (p.0 - mt) * (p.1.ln() - ml), b + (p.0 - mt).powi(2))
-    });
-    num / den
+    let t: Vec<f64> = pts.iter().map(|p| p.0).collect();
+    let ln: Vec<f64> = pts.iter().map(|p| p.1.ln()).collect();
+    least_squares(&["ln v0", "rate"], &[vec![1.0; t.len()], t], &ln).map_or(f64::NAN, |f| f.coef[1])
 }
