@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use indicatif::ProgressBar;
 use serde_json::Value;
 use shearsph::config::Scene;
-use shearsph::empirical::{answer, Extras, Runs, Search, Starts};
+use shearsph::empirical::{answer, queue, Extras, Search, Starts};
 use shearsph::solver::Class;
 
 fn scene(fields: &[(&str, toml::Value)]) -> Scene {
@@ -81,17 +81,16 @@ fn a_too_small_c0_is_ok_on_the_perfect_lattice_but_not_disordered() {
         seeds: 1,
         ..Search::default()
     };
-    let t = Runs::default()
-        .trials(
-            &s,
-            &search,
-            &[0.2 * s.u],
-            Starts::Both,
-            &AtomicBool::new(false),
-            &|| {},
-        )
-        .unwrap()
-        .remove(0);
+    let t = queue::trials(
+        &s,
+        &search,
+        &[0.2 * s.u],
+        Starts::Both,
+        &AtomicBool::new(false),
+        &ProgressBar::hidden(),
+    )
+    .unwrap()
+    .remove(0);
     let perfect = t.perfect.as_ref().unwrap();
     assert_eq!(perfect.class, Class::Ok, "{t:?}");
     assert!(perfect.stationary, "{t:?}");

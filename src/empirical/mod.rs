@@ -9,6 +9,7 @@
 
 pub mod diagnose;
 pub mod law;
+pub mod queue;
 pub mod search;
 pub mod trial;
 
@@ -26,7 +27,8 @@ use crate::solver::Class;
 pub use diagnose::Diagnosis;
 pub use law::DisorderedLaw;
 pub use search::{Bracket, Regime};
-pub use trial::{Pooled, Runs, StartRun, Starts, Trial};
+pub use queue::{Priority, RunQueue};
+pub use trial::{Pooled, StartRun, Starts, Trial};
 
 /// How the answer is searched.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -236,31 +238,6 @@ pub struct Extras {
     pub law_ladder: bool,
 }
 
-/// The engine's state for one scene: its runs so far, and how to tick.
-struct Engine<'a> {
-    scene: &'a Scene,
-    search: &'a Search,
-    runs: Runs,
-    stop: &'a AtomicBool,
-    bar: &'a ProgressBar,
-}
-
-impl Engine<'_> {
-    fn trials(&mut self, c0s: &[f64], which: Starts) -> Result<Vec<Trial>> {
-        let todo = self.runs.missing(self.search, c0s, which).len();
-        self.bar.inc_length(todo as u64);
-        let bar = self.bar;
-        self.runs
-            .trials(self.scene, self.search, c0s, which, self.stop, &|| {
-                bar.inc(1)
-            })
-    }
-
-    fn trial(&mut self, c0: f64, which: Starts) -> Result<Trial> {
-        Ok(self.trials(&[c0], which)?.remove(0))
-    }
-}
-
 /// Check `scene` (everything but c0) and `search` before the first run.
 fn check(scene: &Scene, search: &Search) -> Result<()> {
     crate::problem::c0::table(scene)?;
@@ -285,50 +262,11 @@ pub fn answer(
     let channel = Channel::resolve(scene, info)?;
     let disc = channel.discretisation;
     let u = channel.flow.u;
-    let mut e = Engine {
-        scene,
-        search,
-        runs: Runs::default(),
-        stop,
-        bar,
-    };
     let eps0 = disc.eps.max.value.max(0.0);
     let bound = scene.classes().eps_bound(disc);
-    let disordered = search::search(
-        Regime::Disordered,
-        search.steps(u, Some((eps0, bound))),
-        &mut |c| e.trial(c, Starts::Seeds),
-    )?;
-    let ordered = if extras.ordered {
-        search::search(Regime::Ordered, search.steps(u, None), &mut |c| {
-            e.trial(c, Starts::Perfect)
-        })?
-    } else {
-        Bracket {
-            regime: Regime::Ordered,
-            not_compressed: None,
-            compressed: None,
-            c0_min_ok: None,
-            probes: Vec::new(),
-        }
-    };
-    let c0_min_ok = disordered.c0_min_ok;
-    let recommended = c0_min_ok.map(|c| c * search.margin);
-    // The recommended c0 (or, with none, where compression ends) on every
-    // start (how long the order lasts there), and the law's ladder about
-    // the answer on the seeds.
-    let mut both = Vec::new();
-    let mut ladder = Vec::new();
-    if let Some(c) = recommended.or(disordered.not_compressed.map(|h| h.0)) {
-        both.push(c);
-    }
-    if extras.law_ladder {
-        if let Some((c, _)) = disordered.not_compressed {
-            let r = 2f64.sqrt();
-            ladder.extend([c / 2.0, c / r, c * r, c * 2.0].iter().copied());
-        }
-    }
-    // The rules' c0s, each run once (a c0 a probe already ran is reused).
+    // The rules' c0s: they do not depend on the search, so their runs are
+    // queued from the start, behind the searches' (a c0 a probe also asks
+    // is run once).
     let rules = all_rules_on(info, disc);
     let named: Vec<(String, Result<f64, String>)> = if extras.rules {
         rules
@@ -347,19 +285,76 @@ pub fn answer(
     } else {
         Vec::new()
     };
-    for (_, c) in &named {
-        if let Ok(c) = c {
-            both.push(*c);
+    let rule_c0s: Vec<f64> = named.iter().filter_map(|(_, c)| c.clone().ok()).collect();
+    let q = RunQueue::new(scene, search, stop, bar);
+    let dis_steps = search.steps(u, Some((eps0, bound)));
+    // The searches' first probes first, then the rules' runs.
+    q.ask(
+        &q.runs_of(&[search::first(&dis_steps)], Starts::Seeds),
+        Priority::Disordered,
+    );
+    if extras.ordered {
+        q.ask(
+            &q.runs_of(&[search::first(&search.steps(u, None))], Starts::Perfect),
+            Priority::Ordered,
+        );
+    }
+    q.ask(&q.runs_of(&rule_c0s, Starts::Both), Priority::Background);
+    let (disordered, ordered, both, ladder) = queue::with_workers(&q, || -> Result<_> {
+        // The two searches at once: the ordered one's single runs fill the
+        // cores the disordered one's seeds leave.
+        let (disordered, ordered) = std::thread::scope(|s| {
+            let ordered = extras.ordered.then(|| {
+                s.spawn(|| {
+                    search::search(Regime::Ordered, search.steps(u, None), &mut |c| {
+                        q.trial(c, Starts::Perfect, Priority::Ordered)
+                    })
+                })
+            });
+            let disordered = search::search(Regime::Disordered, dis_steps, &mut |c| {
+                q.trial(c, Starts::Seeds, Priority::Disordered)
+            });
+            if disordered.is_err() {
+                // Nothing more is worth running: the ordered search ends.
+                q.close();
+            }
+            let ordered = ordered.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+            (disordered, ordered)
+        });
+        let disordered = disordered?;
+        let ordered = match ordered {
+            Some(o) => o?,
+            None => Bracket {
+                regime: Regime::Ordered,
+                not_compressed: None,
+                compressed: None,
+                c0_min_ok: None,
+                probes: Vec::new(),
+            },
+        };
+        // The recommended c0 (or, with none, where compression ends) on
+        // every start (how long the order lasts there), the law's ladder
+        // about the answer on the seeds, and the rules' runs still to make.
+        let recommended = disordered.c0_min_ok.map(|c| c * search.margin);
+        let mut both = Vec::new();
+        let mut ladder = Vec::new();
+        if let Some(c) = recommended.or(disordered.not_compressed.map(|h| h.0)) {
+            both.push(c);
         }
-    }
-    // One phase: every run at once.
-    let mut todo = e.runs.missing(search, &both, Starts::Both);
-    todo.extend(e.runs.missing(search, &ladder, Starts::Seeds));
-    e.bar.inc_length(todo.len() as u64);
-    {
-        let bar = e.bar;
-        e.runs.run_list(scene, &todo, e.stop, &|| bar.inc(1))?;
-    }
+        if extras.law_ladder {
+            if let Some((c, _)) = disordered.not_compressed {
+                let r = 2f64.sqrt();
+                ladder.extend([c / 2.0, c / r, c * r, c * 2.0].iter().copied());
+            }
+        }
+        let mut rest = q.runs_of(&both, Starts::Both);
+        rest.extend(q.runs_of(&ladder, Starts::Seeds));
+        rest.extend(q.runs_of(&rule_c0s, Starts::Both));
+        q.wait(&rest, Priority::Ordered)?;
+        Ok((disordered, ordered, both, ladder))
+    })?;
+    let c0_min_ok = disordered.c0_min_ok;
+    let recommended = c0_min_ok.map(|c| c * search.margin);
     // Every trial made, by c0 (a c0 asked twice is one trial).
     let mut all: Vec<f64> = disordered
         .probes
@@ -367,11 +362,12 @@ pub fn answer(
         .chain(&ordered.probes)
         .chain(&both)
         .chain(&ladder)
+        .chain(&rule_c0s)
         .copied()
         .collect();
     all.sort_by(f64::total_cmp);
     all.dedup();
-    let trials = e.runs.collect(scene, search, &all)?;
+    let trials = q.collect(&all)?;
     let by_c0 = |c: f64| trials.iter().find(|t| t.c0 == c);
     let law = law::fit(&trials.iter().collect::<Vec<_>>(), eps0);
     // Steps per unit time, of the perfect lattice's run.
@@ -434,16 +430,7 @@ pub fn answer(
             &disordered,
             &trials,
             law.as_ref(),
-            &mut |s, c| {
-                let mut eng = Engine {
-                    scene: s,
-                    search,
-                    runs: Runs::default(),
-                    stop,
-                    bar,
-                };
-                eng.trial(c, Starts::Seeds)
-            },
+            &mut |s, c| Ok(queue::trials(s, search, &[c], Starts::Seeds, stop, bar)?.remove(0)),
         )?),
     };
     let horizon = horizon_used(scene, search, &trials)?;

@@ -112,6 +112,12 @@ fn next_probe(l: f64, h: f64, steps: &Steps, settled: &[(f64, f64)]) -> f64 {
     }
 }
 
+/// The search's first probe: the one its path starts from whatever the
+/// classes (the engine queues it before the search asks).
+pub fn first(steps: &Steps) -> f64 {
+    steps.first.clamp(steps.lo, steps.hi)
+}
+
 /// Search with `trial` running one c0 (cached: a c0 asked twice is run
 /// once).
 pub fn search(
@@ -134,7 +140,7 @@ pub fn search(
             }
             Ok(regime.class(&t))
         };
-    let first = steps.first.clamp(steps.lo, steps.hi);
+    let first = first(&steps);
     let k = class_at(first, &mut probes, &mut settled)?;
     let (mut lo, mut hi): (Option<Probe>, Option<Probe>);
     if compressed(k) {

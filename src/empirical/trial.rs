@@ -1,20 +1,15 @@
 //! One c0 run from every start of the search: the perfect lattice and the
 //! jittered seeds, each to the stationary horizon; the seeds pooled into
-//! one class (docs/stationary.md). Runs are cached by (c0, start), so a c0
-//! that two questions ask (a probe and a rule) is run once.
+//! one class (docs/stationary.md). The runs themselves are made by the
+//! engine's queue ([`super::queue`]), once per (c0, start), so a c0 that two
+//! questions ask (a probe and a rule) is run once.
 
-use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
-
-use anyhow::{bail, Result};
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::Search;
 use crate::config::{C0Spec, ClassRules, Scene};
 use crate::problem::horizon::HorizonKind;
-use crate::run::run_scene;
-use crate::solver::{classify, Class, Observer, Outcome, Regime, RunResult};
+use crate::solver::{classify, Class, Outcome, Regime, RunResult};
 
 /// One start's run at one c0: its class and the window's statistics.
 #[derive(Debug, Clone, Serialize)]
@@ -47,7 +42,7 @@ pub struct StartRun {
 }
 
 impl StartRun {
-    fn of(r: &RunResult, rules: &ClassRules) -> StartRun {
+    pub(super) fn of(r: &RunResult, rules: &ClassRules) -> StartRun {
         let w = &r.window;
         StartRun {
             jitter: r.problem.jitter,
@@ -197,112 +192,4 @@ pub fn start_scene(scene: &Scene, c0: f64, (jitter, seed): (f64, u32)) -> Scene 
     s.jitter = jitter;
     s.jitter_seed = seed;
     s
-}
-
-/// Ends a run when the stop flag is set.
-struct Stop<'a>(&'a AtomicBool);
-impl Observer for Stop<'_> {
-    fn should_stop(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
-    }
-}
-
-/// Every run the search has made, by (c0, start).
-#[derive(Default)]
-pub struct Runs {
-    done: HashMap<(u64, u32), StartRun>,
-}
-
-impl Runs {
-    /// Runs `which` would make at `c0s` that are not made yet.
-    pub fn missing(&self, search: &Search, c0s: &[f64], which: Starts) -> Vec<(f64, (f64, u32))> {
-        let mut todo = Vec::new();
-        for &c0 in c0s {
-            for start in starts(search, which) {
-                let key = (c0.to_bits(), start.1);
-                if !self.done.contains_key(&key) && !todo.contains(&(c0, start)) {
-                    todo.push((c0, start));
-                }
-            }
-        }
-        todo
-    }
-
-    /// Trials at every c0 of `c0s` with the starts `which` (runs not yet
-    /// made run first, all at once, each on one thread); a trial also
-    /// carries the other starts where they were made before. `ticked` is
-    /// called after each run.
-    pub fn trials(
-        &mut self,
-        scene: &Scene,
-        search: &Search,
-        c0s: &[f64],
-        which: Starts,
-        stop: &AtomicBool,
-        ticked: &(dyn Fn() + Sync),
-    ) -> Result<Vec<Trial>> {
-        let todo = self.missing(search, c0s, which);
-        self.run_list(scene, &todo, stop, ticked)?;
-        self.collect(scene, search, c0s)
-    }
-
-    /// Make the runs `todo` (c0, start), all at once, each on one thread.
-    pub fn run_list(
-        &mut self,
-        scene: &Scene,
-        todo: &[(f64, (f64, u32))],
-        stop: &AtomicBool,
-        ticked: &(dyn Fn() + Sync),
-    ) -> Result<()> {
-        let rules = scene.classes();
-        let made: Vec<Result<StartRun>> = todo
-            .par_iter()
-            .map(|&(c0, start)| {
-                let s = start_scene(scene, c0, start);
-                // One thread per run: the runs of a phase share the cores.
-                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-                let r = pool.install(|| run_scene(&s, &mut Stop(stop)))?;
-                ticked();
-                if matches!(r.outcome, Outcome::Interrupted { .. }) {
-                    bail!("interrupted");
-                }
-                Ok(StartRun::of(&r, &rules))
-            })
-            .collect();
-        for (&(c0, start), run) in todo.iter().zip(made) {
-            self.done.insert((c0.to_bits(), start.1), run?);
-        }
-        Ok(())
-    }
-
-    /// The trials at `c0s` from the runs made so far (none run now).
-    pub fn collect(&self, scene: &Scene, search: &Search, c0s: &[f64]) -> Result<Vec<Trial>> {
-        let info = scene.kernel_info()?;
-        let rules = scene.classes();
-        let u = scene.u;
-        let bound = rules.eps_bound(scene.discretisation(info)?);
-        Ok(c0s
-            .iter()
-            .map(|&c0| {
-                let get = |seed: u32| self.done.get(&(c0.to_bits(), seed)).cloned();
-                let seeds: Option<Vec<StartRun>> = (1..=search.seeds).map(get).collect();
-                Trial {
-                    c0,
-                    c0_over_u: c0 / u,
-                    perfect: get(0),
-                    pooled: seeds.as_ref().map(|s| pool(s, &rules, bound)),
-                    seeds: seeds.unwrap_or_default(),
-                }
-            })
-            .collect())
-    }
-
-    /// Runs made so far.
-    pub fn len(&self) -> usize {
-        self.done.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.done.is_empty()
-    }
 }
