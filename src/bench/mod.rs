@@ -10,6 +10,7 @@
 //! and the median kept, since the machines this runs on are noisy.
 
 mod budget;
+mod empirical;
 mod machine;
 mod peers;
 mod table;
@@ -25,6 +26,7 @@ use crate::problem::Problem;
 use crate::solver::{self, StepsRun};
 pub use budget::{check, estimated_seconds, MAX_BENCH_S};
 use budget::{check_memory, steps_for};
+pub use empirical::{empirical, empirical_table, EmpiricalBench, EMPIRICAL_RE};
 pub use machine::{stream_gbs, Machine};
 pub use peers::{
     pysph_match, pysph_match_problem, sphinxsys_match, sphinxsys_match_problem, PeerRun,

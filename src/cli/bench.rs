@@ -42,6 +42,12 @@ pub struct BenchArgs {
     /// (the neighbour list rebuilds as a disordered run's does).
     #[arg(long, conflicts_with_all = ["pysph_match", "sphinxsys_match"])]
     pub disordered: bool,
+    /// Instead: the wall time of the empirical answer (`c0 --empirical`,
+    /// every rule beside it) for Monaghan, N = 10, at Re = 1 and 10, each
+    /// answered `--repeats` times (the median kept), with the runs it made,
+    /// their work and whether every repeat gave the same answer.
+    #[arg(long, conflicts_with_all = ["pysph_match", "sphinxsys_match", "disordered"])]
+    pub empirical: bool,
     /// Skip measuring the memory bandwidth (the roofline's second roof, a
     /// triad over 3 x 128 MiB after the runs): the roof is then not given.
     #[arg(long)]
@@ -115,6 +121,21 @@ impl BenchArgs {
         }
         if self.columns == Some(0) {
             bail!("--columns must be at least 1 (120 is SPHinXsys's stock channel at 10 layers)");
+        }
+        if self.empirical {
+            for (flag, given) in [
+                ("--kernels", !self.kernels.is_empty()),
+                ("--particles", !self.particles.is_empty()),
+                ("--steps", self.steps.is_some()),
+                ("--threads", !self.threads.is_empty()),
+            ] {
+                if given {
+                    bail!(
+                        "{flag} does not go with --empirical: it answers Monaghan N = 10 at Re = 1 \
+                         and 10 on every core (RAYON_NUM_THREADS sets fewer); --repeats sets how often"
+                    );
+                }
+            }
         }
         let mut opts = Options::defaults();
         if !self.kernels.is_empty() {
@@ -194,6 +215,19 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let quiet = args.quiet;
+    if args.empirical {
+        let rows = bench::empirical(args.repeats, |msg| {
+            if !quiet {
+                eprintln!("bench: {msg}");
+            }
+        })?;
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&rows)?);
+        } else {
+            print!("{}", bench::empirical_table(&rows));
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let report = bench::run(&opts, |msg| {
         if !quiet {
             eprintln!("bench: {msg}");
