@@ -97,6 +97,62 @@ fn a_too_small_c0_is_ok_on_the_perfect_lattice_but_not_disordered() {
     assert_eq!(t.pooled.as_ref().unwrap().class, Class::Failed, "{t:?}");
 }
 
+/// The queue's workers change no run: the trials made by one worker and
+/// by three (the runs then share the cores, in another order) are the same
+/// bits.
+#[test]
+fn the_number_of_workers_changes_no_trial() {
+    let s = scene(&[
+        ("n_layers", 6.into()),
+        ("re", 1.0.into()),
+        ("horizon_span", 8.0.into()),
+    ]);
+    let search = Search {
+        seeds: 2,
+        ..Search::default()
+    };
+    let c0s = [3.0 * s.u, 10.0 * s.u];
+    let made = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            queue::trials(
+                &s,
+                &search,
+                &c0s,
+                Starts::Both,
+                &AtomicBool::new(false),
+                &ProgressBar::hidden(),
+            )
+        })
+        .unwrap()
+    };
+    let bits = |trials: &[shearsph::empirical::Trial]| -> Vec<(u32, u64, u64, u64, u64)> {
+        trials
+            .iter()
+            .flat_map(|t| t.perfect.iter().chain(&t.seeds))
+            .map(|r| {
+                (
+                    r.seed,
+                    r.eps_stat.to_bits(),
+                    r.linf_stat.to_bits(),
+                    r.t.to_bits(),
+                    r.steps,
+                )
+            })
+            .collect()
+    };
+    let (one, three) = (made(1), made(3));
+    assert_eq!(
+        bits(&one).len(),
+        6,
+        "two c0 on the perfect lattice and two seeds"
+    );
+    assert_eq!(bits(&one), bits(&three));
+}
+
 /// A cheap scene for the CLI's plumbing: a short horizon and one seed.
 const CHEAP: [&str; 8] = [
     "--n",

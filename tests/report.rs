@@ -104,6 +104,7 @@ fn index_references_every_figure_and_table() {
         "empirical_c0_trials.csv",
         "runs.csv",
         "ordered_lattice.json",
+        "growth_map.json",
         "verdicts.json",
         "report.toml",
     ]
@@ -585,5 +586,54 @@ fn the_answer_says_how_long_the_ordered_lattice_lasts() {
         said,
         KERNELS.len() * 2,
         "one sentence per kernel and verdict Re"
+    );
+}
+
+/// The growth map: a cell for every kernel on each discretisation it has
+/// generated, every Re and c0 of `[growth]` (the quick config's), each with
+/// a rate or the reason it has none, and its time to disorder exactly where
+/// the rate is positive; the page shows it as a table, one row per kernel,
+/// discretisation and Re.
+#[test]
+fn the_growth_map_covers_every_kernel_discretisation_re_and_c0() {
+    let dir = report_dir();
+    let config = shearsph::report::Config::quick();
+    let g = &config.growth;
+    let cells: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("growth_map.json")).unwrap())
+            .unwrap();
+    let cells = cells.as_array().expect("cells");
+    let discs: usize = KERNELS
+        .iter()
+        .map(|k| {
+            usize::from(shearsph::report::papers(k).is_some())
+                + usize::from(shearsph::report::square_discretisation(k).is_some())
+        })
+        .sum();
+    assert!(discs >= KERNELS.len(), "every kernel has a discretisation");
+    assert_eq!(cells.len(), discs * g.re.len() * g.c0_over_u.len());
+    for c in cells {
+        assert!(g.re.contains(&c["re"].as_f64().unwrap()), "{c}");
+        assert!(
+            g.c0_over_u.contains(&c["c0_over_u"].as_f64().unwrap()),
+            "{c}"
+        );
+        match c["growth_rate"].as_f64() {
+            Some(rate) => {
+                assert_eq!(c["t_disorder"].as_f64().is_some(), rate > 0.0, "{c}");
+                assert!(c["growth_rate_per_period"].as_f64().is_some(), "{c}");
+            }
+            None => assert!(c["note"].as_str().is_some_and(|n| !n.is_empty()), "{c}"),
+        }
+    }
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let start = html
+        .find("id=\"growth\"")
+        .expect("the growth map's section");
+    let table = &html[start..start + html[start..].find("</table>").unwrap()];
+    assert_eq!(
+        table.matches("<tr><td").count(),
+        discs * g.re.len(),
+        "one row per kernel, discretisation and Re"
     );
 }

@@ -26,8 +26,8 @@ use crate::problem::Problem;
 use crate::solver::Class;
 pub use diagnose::Diagnosis;
 pub use law::DisorderedLaw;
-pub use search::{Bracket, Regime};
 pub use queue::{Priority, RunQueue};
+pub use search::{Bracket, Regime};
 pub use trial::{Pooled, StartRun, Starts, Trial};
 
 /// How the answer is searched.
@@ -318,7 +318,8 @@ pub fn answer(
                 // Nothing more is worth running: the ordered search ends.
                 q.close();
             }
-            let ordered = ordered.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+            let ordered =
+                ordered.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
             (disordered, ordered)
         });
         let disordered = disordered?;

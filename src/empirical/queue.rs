@@ -24,7 +24,7 @@ use std::sync::{Condvar, Mutex, MutexGuard};
 use anyhow::{anyhow, bail, Result};
 use indicatif::ProgressBar;
 
-use super::trial::{pool, starts, start_scene, StartRun, Starts, Trial};
+use super::trial::{pool, start_scene, starts, StartRun, Starts, Trial};
 use super::Search;
 use crate::config::Scene;
 use crate::run::run_scene;
@@ -53,7 +53,11 @@ fn key(&(c0, (_, seed)): &Run) -> Key {
 }
 
 enum Slot {
-    Queued { priority: Priority, order: u64, run: Run },
+    Queued {
+        priority: Priority,
+        order: u64,
+        run: Run,
+    },
     Running,
     Done(Box<StartRun>),
 }
@@ -66,6 +70,25 @@ struct State {
     closed: bool,
     /// The first run that went wrong (an error, or an interruption).
     error: Option<String>,
+}
+
+impl State {
+    /// The most urgent queued run: the highest priority, and among equals
+    /// the first asked.
+    fn next(&self) -> Option<(Key, Run)> {
+        self.slots
+            .iter()
+            .filter_map(|(k, s)| match s {
+                Slot::Queued {
+                    priority,
+                    order,
+                    run,
+                } => Some(((*priority, std::cmp::Reverse(*order)), *k, *run)),
+                _ => None,
+            })
+            .max_by_key(|&(rank, _, _)| rank)
+            .map(|(_, k, run)| (k, run))
+    }
 }
 
 /// Ends a run when the stop flag is set.
@@ -245,19 +268,8 @@ impl<'a> RunQueue<'a> {
                     if st.closed || st.error.is_some() {
                         return;
                     }
-                    let next = st
-                        .slots
-                        .iter()
-                        .filter_map(|(k, s)| match s {
-                            Slot::Queued {
-                                priority,
-                                order,
-                                run,
-                            } => Some((*priority, std::cmp::Reverse(*order), *k, *run)),
-                            _ => None,
-                        })
-                        .max_by_key(|&(p, o, _, _)| (p, o));
-                    if let Some((_, _, k, run)) = next {
+                    let next = st.next();
+                    if let Some((k, run)) = next {
                         st.slots.insert(k, Slot::Running);
                         break run;
                     }
@@ -338,4 +350,54 @@ pub fn trials(
 ) -> Result<Vec<Trial>> {
     let q = RunQueue::new(scene, search, stop, bar);
     with_workers(&q, || q.trials(c0s, which, Priority::Disordered))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The queue takes the highest priority first, among equals the first
+    /// asked; asking again raises a queued run, never lowers it.
+    #[test]
+    fn the_most_urgent_run_goes_first() {
+        let scene = Scene::builtin();
+        let search = Search::default();
+        let stop = AtomicBool::new(false);
+        let bar = ProgressBar::hidden();
+        let q = RunQueue::new(&scene, &search, &stop, &bar);
+        let rule = q.runs_of(&[100.0], Starts::Both);
+        assert_eq!(rule.len(), 4, "the perfect lattice and three seeds");
+        assert_eq!(q.ask(&rule, Priority::Background), 4);
+        assert_eq!(
+            q.ask(&q.runs_of(&[10.0], Starts::Perfect), Priority::Ordered),
+            1
+        );
+        assert_eq!(
+            q.ask(&q.runs_of(&[3.0], Starts::Seeds), Priority::Disordered),
+            3
+        );
+        let take = |q: &RunQueue| {
+            let mut st = q.lock();
+            let (k, run) = st.next().expect("a queued run");
+            st.slots.insert(k, Slot::Running);
+            run
+        };
+        for seed in 1..=3 {
+            assert_eq!(take(&q), (3.0, (search.amplitude, seed)));
+        }
+        assert_eq!(take(&q), (10.0, (0.0, 0)));
+        // A rule's seed the search now needs jumps the queue; asked again
+        // lower, it stays where it is; the running ones are not queued again.
+        assert_eq!(q.ask(&[rule[2]], Priority::Disordered), 0);
+        assert_eq!(q.ask(&[rule[2]], Priority::Background), 0);
+        assert_eq!(
+            q.ask(&q.runs_of(&[3.0], Starts::Seeds), Priority::Disordered),
+            0
+        );
+        assert_eq!(take(&q), rule[2]);
+        for r in [rule[0], rule[1], rule[3]] {
+            assert_eq!(take(&q), r);
+        }
+        assert!(q.lock().next().is_none());
+    }
 }

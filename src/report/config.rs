@@ -32,6 +32,9 @@ pub struct Config {
     pub perturbed: PerturbedConfig,
     pub square: SquareConfig,
     pub figure4: Figure4Config,
+    /// A config without `[growth]` has no growth map.
+    #[serde(default)]
+    pub growth: GrowthConfig,
 }
 
 /// A config written before the report ran perturbed and square lattices
@@ -123,6 +126,31 @@ pub struct EmpiricalConfig {
     pub max_extend: Option<u32>,
 }
 
+/// The growth map: the ordered lattice's leading growth rate (`shearsph
+/// stability`'s analysis) over `c0_over_u` x `re`, per kernel on each
+/// case's discretisation at maps.n and maps.alpha, each perturbation
+/// followed over `horizon` (in t, U = d = 1); none when a list is empty.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GrowthConfig {
+    pub re: Vec<f64>,
+    pub c0_over_u: Vec<f64>,
+    #[serde(default = "growth_horizon")]
+    pub horizon: f64,
+}
+
+/// `shearsph stability`'s default horizon.
+fn growth_horizon() -> f64 {
+    300.0
+}
+
+/// The growth map's horizon's bounds: below 20 t the rate is the start's
+/// transient (the analysis warms up over 20 t); above 3000 t one map cell
+/// costs minutes.
+pub const GROWTH_HORIZON: (f64, f64) = (20.0, 3000.0);
+/// The most values in each of the growth map's lists.
+pub const GROWTH_MAX_VALUES: usize = 16;
+
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Figure4Config {
@@ -193,7 +221,39 @@ impl Config {
         if self.figure4.samples < 2 {
             bail!("figure4.samples must be at least 2");
         }
+        self.check_growth()?;
         self.check_counts()
+    }
+
+    /// The growth map's lists: every value a positive finite number, at
+    /// most [`GROWTH_MAX_VALUES`] of each, none twice; the horizon within
+    /// [`GROWTH_HORIZON`] when the map is asked.
+    fn check_growth(&self) -> Result<()> {
+        let g = &self.growth;
+        for (field, list, what) in [
+            ("growth.re", &g.re, "a Reynolds number"),
+            ("growth.c0_over_u", &g.c0_over_u, "a sound speed in U"),
+        ] {
+            if let Some(v) = list.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                bail!("{field} = {v} is not {what}: give positive finite numbers (or none: no growth map)");
+            }
+            if list.len() > GROWTH_MAX_VALUES {
+                bail!(
+                    "{field} has {} values, more than {GROWTH_MAX_VALUES}: each cell of the map is a stability analysis of seconds",
+                    list.len()
+                );
+            }
+            crate::config::bounds::distinct(field, list)?;
+        }
+        let (lo, hi) = GROWTH_HORIZON;
+        let asked = !(g.re.is_empty() || g.c0_over_u.is_empty());
+        if asked && !(lo..=hi).contains(&g.horizon) {
+            bail!(
+                "growth.horizon = {} must be from {lo} to {hi} (t, U = d = 1): below, the rate is the warm-up's transient; above, a cell costs minutes",
+                g.horizon
+            );
+        }
+        Ok(())
     }
 
     /// Every count of the config within its bound and no list giving a
@@ -432,5 +492,38 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Every value of the growth map's lists and its horizon is checked,
+    /// naming the field; a config without `[growth]` has no map; empty
+    /// lists are no map, whatever the horizon.
+    #[test]
+    fn the_growth_map_is_checked_field_by_field() {
+        let bad = |edit: &dyn Fn(&mut GrowthConfig), field: &str| {
+            let mut c = Config::quick();
+            edit(&mut c.growth);
+            let err = c.check().expect_err(field).to_string();
+            assert!(err.contains(field), "{field}: {err}");
+        };
+        bad(&|g| g.re = vec![1.0, 0.0], "growth.re");
+        bad(&|g| g.re = vec![f64::NAN], "growth.re");
+        bad(&|g| g.re = vec![1.0, 1.0], "growth.re");
+        bad(&|g| g.c0_over_u = vec![-3.0], "growth.c0_over_u");
+        bad(&|g| g.c0_over_u = vec![f64::INFINITY], "growth.c0_over_u");
+        bad(
+            &|g| g.c0_over_u = vec![1.0; GROWTH_MAX_VALUES + 1],
+            "growth.c0_over_u",
+        );
+        bad(&|g| g.horizon = 5.0, "growth.horizon");
+        bad(&|g| g.horizon = f64::NAN, "growth.horizon");
+        let mut none = Config::quick();
+        none.growth.re.clear();
+        none.growth.horizon = 0.0;
+        none.check().expect("no growth map");
+        let start = QUICK_CONFIG
+            .find("[growth]")
+            .expect("the quick config has a map");
+        let old = Config::parse(&QUICK_CONFIG[..start], "old.toml").expect("an old config parses");
+        assert!(old.growth.re.is_empty() && old.growth.c0_over_u.is_empty());
     }
 }

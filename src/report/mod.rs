@@ -79,6 +79,8 @@ pub struct ReportData {
     pub law: Option<law::LawSection>,
     /// The ordered lattice's growth at the derived and rule10 c0.
     pub ordered: Vec<stability::Ordered>,
+    /// Its growth map over c0 / U x Re (`[growth]`; empty without one).
+    pub growth: Vec<stability::GrowthCell>,
 }
 
 /// Run the report into `out`. `stop` (Ctrl-C) ends it early with an error
@@ -184,6 +186,15 @@ pub fn run(
         "report: the ordered lattice's stability done at {:.1} s",
         start.elapsed().as_secs_f64()
     ));
+    // 5. The ordered lattice's growth map over c0 / U x Re.
+    let Some(growth) = stability::growth_map(config, &infos, stop)? else {
+        return Err(interrupted());
+    };
+    log(&format!(
+        "report: the ordered lattice's growth map ({} cells) done at {:.1} s",
+        growth.len(),
+        start.elapsed().as_secs_f64()
+    ));
     let data = ReportData {
         config: config.clone(),
         plan,
@@ -201,6 +212,7 @@ pub fn run(
         jobs: opts.par.jobs,
         law,
         ordered,
+        growth,
     };
     write::write(&data, out)?;
     log(&format!(

@@ -154,3 +154,104 @@ pub fn sentence(rows: &[Ordered], kernel: &str, re: f64) -> Option<String> {
         )
     })
 }
+
+/// One cell of the growth map: a kernel's ordered lattice on one
+/// discretisation at one Re and c0.
+#[derive(Debug, Clone, Serialize)]
+pub struct GrowthCell {
+    pub kernel: String,
+    pub discretisation: String,
+    pub re: f64,
+    pub c0_over_u: f64,
+    /// The leading growth rate per unit time and per period T = d N^2 / U,
+    /// its sector's q d, and when a 1e-4 d jitter disorders the lattice
+    /// at that rate (None: nothing grows); all None when every sector's
+    /// run failed (`note`).
+    pub growth_rate: Option<f64>,
+    pub growth_rate_per_period: Option<f64>,
+    pub q_d: Option<f64>,
+    pub t_disorder: Option<f64>,
+    pub note: Option<String>,
+}
+
+/// The growth map (`[growth]`): every kernel on each case's discretisation
+/// at maps.n and maps.alpha, every `growth.re` x `growth.c0_over_u`, each
+/// perturbation followed over `growth.horizon`; empty when either list is.
+/// None when `stop` was raised.
+pub fn growth_map(
+    config: &Config,
+    infos: &[&'static KernelInfo],
+    stop: &AtomicBool,
+) -> Result<Option<Vec<GrowthCell>>> {
+    let g = &config.growth;
+    let mut out = Vec::new();
+    if g.re.is_empty() || g.c0_over_u.is_empty() {
+        return Ok(Some(out));
+    }
+    let defaults = Request::default();
+    let req = Request {
+        c0_over_u: g.c0_over_u.clone(),
+        options: Options {
+            horizon: g.horizon,
+            warm: defaults.options.warm.min(g.horizon / 4.0),
+            ..defaults.options
+        },
+        ..defaults
+    };
+    let mut discs: Vec<Disc> = config.cases().iter().map(|c| c.disc).collect();
+    discs.dedup();
+    for disc_kind in discs {
+        for &info in infos {
+            let Some((disc, on)) = disc_kind.of(info) else {
+                continue;
+            };
+            for &re in &g.re {
+                if stop.load(Ordering::Relaxed) {
+                    return Ok(None);
+                }
+                let scene = super::empirical::scene(config, info.name, re, disc)?;
+                let cell = |c0_over_u: f64| GrowthCell {
+                    kernel: info.name.to_string(),
+                    discretisation: on.label(),
+                    re,
+                    c0_over_u,
+                    growth_rate: None,
+                    growth_rate_per_period: None,
+                    q_d: None,
+                    t_disorder: None,
+                    note: None,
+                };
+                match analyse(&scene, &req) {
+                    Err(e) => out.extend(g.c0_over_u.iter().map(|&c| GrowthCell {
+                        note: Some(format!("{e:#}")),
+                        ..cell(c)
+                    })),
+                    Ok(at) => out.extend(at.into_iter().map(|a| {
+                        if a.growth_rate.is_finite() {
+                            GrowthCell {
+                                growth_rate: Some(a.growth_rate),
+                                growth_rate_per_period: Some(a.growth_rate_per_period),
+                                q_d: a
+                                    .sectors
+                                    .iter()
+                                    .find(|s| s.j == a.most_unstable_j)
+                                    .map(|s| s.q_d),
+                                t_disorder: a.t_disorder_predicted,
+                                ..cell(a.c0_over_u)
+                            }
+                        } else {
+                            GrowthCell {
+                                note: Some(
+                                    "every sector's run failed: the perfect lattice does not last at this c0"
+                                        .into(),
+                                ),
+                                ..cell(a.c0_over_u)
+                            }
+                        }
+                    })),
+                }
+            }
+        }
+    }
+    Ok(Some(out))
+}

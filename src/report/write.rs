@@ -72,6 +72,7 @@ fn runs(d: &ReportData, f: &Folder) -> Result<()> {
         "ordered_lattice.json",
         &serde_json::to_string_pretty(&d.ordered)?,
     )?;
+    f.put("growth_map.json", &serde_json::to_string_pretty(&d.growth)?)?;
     let mut jsonl = String::new();
     for r in &d.rows {
         jsonl.push_str(&serde_json::to_string(r)?);

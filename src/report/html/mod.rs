@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 mod answer;
+mod growth;
 mod paper;
 mod runs;
 
@@ -114,7 +115,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         d.rows.len(),
         d.empirical.iter().filter(|e| e.case.perturbed).map(|e| e.answer.horizon.runs).sum::<usize>()
     );
-    h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
+    h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#growth\">growth map</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
 
     answer::answer(&mut h, d, figures);
     runs::verdicts(&mut h, d);
@@ -127,6 +128,7 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
     runs::figure4(&mut h, d, figures);
     runs::speed(&mut h, d, figures);
     runs::maps(&mut h, d, figures);
+    growth::growth(&mut h, d);
     runs::empirical(&mut h, d);
     if let Some(law) = &d.law {
         h.push_str(&law.html);
@@ -159,7 +161,7 @@ fn method(h: &mut String, d: &ReportData) {
         "<li>Scenes: the built-in scene with {}; start-up from rest, compared with the series solution.</li>",
         esc(&scene_fields.join(", "))
     );
-    let _ = writeln!(h, "<li>The config of this run: <a href=\"report.toml\">report.toml</a>; every run: <a href=\"runs.csv\">runs.csv</a> (also <a href=\"runs.jsonl\">runs.jsonl</a>); the verdicts as data: <a href=\"verdicts.json\">verdicts.json</a>, the first screen's words: <a href=\"answer.json\">answer.json</a>; the ordered lattice's growth at the derived and rule10 c0 (shearsph stability): <a href=\"ordered_lattice.json\">ordered_lattice.json</a>.</li>");
+    let _ = writeln!(h, "<li>The config of this run: <a href=\"report.toml\">report.toml</a>; every run: <a href=\"runs.csv\">runs.csv</a> (also <a href=\"runs.jsonl\">runs.jsonl</a>); the verdicts as data: <a href=\"verdicts.json\">verdicts.json</a>, the first screen's words: <a href=\"answer.json\">answer.json</a>; the ordered lattice's growth at the derived and rule10 c0 (shearsph stability): <a href=\"ordered_lattice.json\">ordered_lattice.json</a>, and over c0 / U x Re: <a href=\"growth_map.json\">growth_map.json</a>.</li>");
     h.push_str("</ul>\n");
 }
 

@@ -155,6 +155,27 @@ mod lists {
         check_lists(&list, &x, &y, l.width, cutoff);
     }
 
+    /// Every number of cell columns, from one (a narrow strip) to six:
+    /// the lists are brute force's, and a particle on a column's edge or
+    /// the strip's finds its neighbours through the right image.
+    #[test]
+    fn every_column_count_matches_brute_force() {
+        for columns in [3u32, 5, 7, 8, 9, 10, 12, 14] {
+            let mut l = Lattice::new(crate::kernel::Lattice::Triangular, 3, 1.0, 1.0, 2.0);
+            l.columns = columns;
+            l.width = f64::from(columns);
+            let (mut x, mut y, _) = l.positions();
+            jitter(&mut x, &mut y, l.width, 0.45, 0.3);
+            // On the edges: the first column's edge, the strip's.
+            x[0] = 0.0;
+            x[1] = l.width * (1.0 - f64::EPSILON);
+            let cutoff = 2.3;
+            let mut list = NeighbourList::default();
+            list.build(&x, &y, l.width, cutoff, l.columns as usize);
+            check_lists(&list, &x, &y, l.width, cutoff);
+        }
+    }
+
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
         let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
