@@ -4,23 +4,9 @@
 use anyhow::Result;
 use plotters::prelude::*;
 
-use super::sweep::{draw_legend, series_color, Mark};
+use super::sweep::{draw_legend, log_range, series_color, Mark};
 use super::{chart_err, LogAxis};
 use crate::law::{KernelLaw, Point};
-
-/// Positive finite values' range, widened by the factor `pad`.
-fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
-    let (lo, hi) = values
-        .filter(|v| *v > 0.0 && v.is_finite())
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
-    if lo > hi {
-        (0.1, 10.0)
-    } else {
-        (lo / pad, hi * pad)
-    }
-}
 
 /// One kernel's chart: for each Re a panel of c0 / U against N, the
 /// empirical c0_min (dots alpha = 0, triangles alpha > 0; a ring on the
@@ -35,8 +21,8 @@ pub fn law_svg(law: &KernelLaw, points: &[Point]) -> Result<String> {
     alphas.sort_by(f64::total_cmp);
     alphas.dedup();
     let a_rule = alphas.last().copied().unwrap_or(0.1);
-    let (xlo, xhi) = range(mine.iter().map(|p| f64::from(p.n)), 1.15);
-    let (ylo, yhi) = range(
+    let (xlo, xhi) = log_range(mine.iter().map(|p| f64::from(p.n)), 1.15);
+    let (ylo, yhi) = log_range(
         mine.iter()
             .filter_map(|p| p.c0_min_over_u)
             .chain(mine.iter().flat_map(|p| p.rules.iter().map(|r| r.1))),
