@@ -627,3 +627,37 @@ fn an_ungenerated_discretisation_names_the_line_to_add() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("lattice"), "{}", stderr(&o));
 }
+
+/// docs/c0-rules.md's table is the registry's (`config::RULES`): every
+/// rule's name, c0 and source, in its order; and `--help` says each.
+#[test]
+fn the_rules_table_and_help_are_the_registry() {
+    let page =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/c0-rules.md")).unwrap();
+    let rows: Vec<&str> = page
+        .lines()
+        .skip_while(|l| !l.starts_with("| rule | c0 | source |"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    let want: Vec<String> = shearsph::config::RULES
+        .iter()
+        .map(|e| {
+            let names: Vec<String> = e.syntax.split(", ").map(|n| format!("`{n}`")).collect();
+            format!("| {} | {} | {} |", names.join(", "), e.formula, e.source)
+        })
+        .collect();
+    assert_eq!(rows, want, "docs/c0-rules.md's table against config::RULES");
+    let help = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["run", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&help.stdout).replace(char::is_whitespace, "");
+    for e in shearsph::config::RULES {
+        let said = format!("{}:{}", e.syntax, e.formula.replace("\\|", "|"));
+        assert!(
+            help.contains(&said.replace(char::is_whitespace, "")),
+            "--help lacks {said}"
+        );
+    }
+}

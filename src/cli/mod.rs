@@ -63,22 +63,9 @@ pub struct SceneArgs {
     /// Artificial viscosity coefficient, in [0, 1].
     #[arg(long)]
     pub alpha: Option<f64>,
-    /// Sound speed: a number, or [F*]RULE. With U the centre-line speed, B the
-    /// half-width, F = p the body force, nu = p B^2/(2U), L = 2B the plates'
-    /// distance, RULE is one of: derived, derived:MODEL (Reshetnikova 2024,
-    /// the kernel's derived models); derived-eps[:E] (the same balance with a
-    /// technical eps0 E, default 0.01: a = eps0 K scaled by E/eps0, b and c
-    /// kept); table2 (the paper's printed row); rule10 = 10 U (Monaghan 1994,
-    /// PySPH, SPHinXsys); morris1997: c^2 = max(U^2/delta, nu U/(L delta),
-    /// F L/delta), delta = 0.01 (Morris, Fox, Zhu 1997, 2.2); gpusph = 20
-    /// max(sqrt(2 F L), U) (GPUSPH Poiseuille.cu); dualsphysics = 20
-    /// sqrt(2 F B) (coefsound 20 x speedsystem sqrt(|g| hswl), the body force
-    /// as g and the fluid depth 2B as hswl); trixi = 100 U (TrixiParticles.jl
-    /// poiseuille_flow_2d.jl); empirical (the solver's answer for the scene,
-    /// this project's `c0 --empirical`: the smallest c0 ok in the stationary,
-    /// disordered state of 3 starts jittered by 0.05 d, times 1.5; `run`
-    /// finds it first, then runs; docs/answer.md).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Sound speed: a number, or [F*]RULE (`shearsph c0` lists every rule's
+    /// c0; --help says each).
+    #[arg(long, allow_hyphen_values = true, long_help = crate::config::c0_help())]
     pub c0: Option<String>,
     /// Start from `rest` or from the `steady` profile.
     #[arg(long)]

@@ -19,7 +19,10 @@ pub mod lookup;
 pub mod overlay;
 pub mod scene;
 
-pub use c0_spec::{C0Rule, C0Spec, DEFAULT_TECHNICAL_EPS0};
+pub use c0_spec::{
+    c0_help, c0_syntax, entry_of, C0Rule, C0Spec, RuleEntry, RuleFlow, RuleKind,
+    DEFAULT_TECHNICAL_EPS0, MORRIS_DELTA, RULE10, RULES,
+};
 pub use error::{check_alpha, SceneError};
 pub(crate) use error::{invalid, positive};
 pub use lookup::{discretisation, kernel_info, parse_h_over_d, rational_text};

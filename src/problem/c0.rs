@@ -6,12 +6,14 @@ use serde::Serialize;
 
 use super::channel::Channel;
 use super::cost::{DtLimit, Estimate};
-use crate::config::{invalid, positive, C0Rule, C0Spec, Scene, SceneError, DEFAULT_TECHNICAL_EPS0};
+use crate::config::{
+    entry_of, invalid, positive, C0Rule, C0Spec, RuleFlow, RuleKind, Scene, SceneError,
+    DEFAULT_TECHNICAL_EPS0, RULES,
+};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, KernelInfo};
 
-/// Morris, Fox and Zhu's (1997) relative density variation, delta = 0.01.
-pub const MORRIS_DELTA: f64 = 0.01;
+pub use crate::config::MORRIS_DELTA;
 
 /// c0 for a base rule (factor 1), with the rule's canonical name. A
 /// derived model is the channel's discretisation's (its lattice and h/d):
@@ -30,12 +32,22 @@ pub fn by_rule(
     let n = f64::from(channel.lattice.n_layers);
     let (p, d) = (channel.flow.p, channel.lattice.d);
     let disc = channel.discretisation;
-    // The distance between the plates, the length the codes' rules take.
-    let l = 2.0 * channel.flow.b;
     let name = rule.to_string();
+    // A code's rule: its registry entry's formula of the flow.
+    if let RuleKind::Code { c0, .. } = entry_of(rule).kind {
+        let flow = RuleFlow {
+            u,
+            p,
+            nu: channel.flow.nu,
+            b: channel.flow.b,
+        };
+        return Ok((c0(&flow), name));
+    }
     match rule {
-        C0Rule::Rule10 => Ok((10.0 * u, name)),
-        C0Rule::Trixi => Ok((100.0 * u, name)),
+        C0Rule::Code(e) => Err(invalid(
+            "c0",
+            format!("rule {} is a code's rule without a formula", e.syntax),
+        )),
         // the solver's answer: the layers above resolve it by running the
         // bisection first (`crate::empirical::resolve_empirical`)
         C0Rule::Empirical => Err(invalid(
@@ -44,14 +56,6 @@ pub fn by_rule(
              --empirical` find it by running the bisection first; here give a number or another \
              rule (`shearsph c0` lists them)",
         )),
-        C0Rule::Gpusph => Ok((20.0 * (2.0 * p * l).sqrt().max(u), name)),
-        C0Rule::DualSphysics => Ok((20.0 * (p * l).sqrt(), name)),
-        C0Rule::Morris1997 => {
-            let delta = MORRIS_DELTA;
-            let nu = channel.flow.nu;
-            let c2 = (u * u / delta).max(nu * u / (l * delta)).max(p * l / delta);
-            Ok((c2.sqrt(), name))
-        }
         C0Rule::DerivedEps(eps) => {
             let eps_t = eps.unwrap_or(DEFAULT_TECHNICAL_EPS0);
             let name = match eps {
@@ -158,13 +162,12 @@ pub fn all_rules_on(info: &KernelInfo, disc: &DiscretisationInfo) -> Vec<C0Rule>
         .map(|m| C0Rule::Derived(Some(m.to_string())))
         .collect();
     rules.push(C0Rule::DerivedEps(None));
-    rules.extend([
-        C0Rule::Rule10,
-        C0Rule::Morris1997,
-        C0Rule::Gpusph,
-        C0Rule::DualSphysics,
-        C0Rule::Trixi,
-    ]);
+    rules.extend(
+        RULES
+            .iter()
+            .filter(|e| matches!(e.kind, RuleKind::Code { .. }))
+            .map(|e| C0Rule::Code(e)),
+    );
     if info.printed_c0.is_some() && disc.is_papers() {
         rules.push(C0Rule::Table2);
     }

@@ -485,7 +485,7 @@ mod tests {
                             disc: Disc::Paper,
                             seed: 0,
                             re: ri,
-                            rule: C0Rule::Rule10,
+                            rule: C0Rule::Code(&crate::config::RULE10),
                         },
                     };
                     assert!(plan.keys[i].contains(&want), "{id}");

@@ -88,7 +88,7 @@ pub fn rule_lines_on(
         }
         let label = match &rule {
             C0Rule::Derived(Some(m)) if m == info.c0_default => format!("derived:{m} (default)"),
-            C0Rule::Rule10 => "10 U".to_string(),
+            r if *r == C0Rule::Code(&crate::config::RULE10) => "10 U".to_string(),
             r => r.to_string(),
         };
         lines.push(MapLine { label, pieces });

@@ -101,7 +101,7 @@ impl<'a> AtRe<'a> {
         let rule = |r: C0Rule| here.iter().find(|c| c.rule == r).copied();
         AtRe {
             derived: here.iter().find(|c| c.default_model).copied(),
-            rule10: rule(C0Rule::Rule10),
+            rule10: rule(C0Rule::Code(&crate::config::RULE10)),
             table2: rule(C0Rule::Table2),
             others: here
                 .iter()
