@@ -215,28 +215,29 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let quiet = args.quiet;
-    if args.empirical {
-        let rows = bench::empirical(args.repeats, |msg| {
-            if !quiet {
-                eprintln!("bench: {msg}");
-            }
-        })?;
-        if args.json {
-            println!("{}", serde_json::to_string_pretty(&rows)?);
-        } else {
-            print!("{}", bench::empirical_table(&rows));
-        }
-        return Ok(ExitCode::SUCCESS);
-    }
-    let report = bench::run(&opts, |msg| {
+    let progress = |msg: &str| {
         if !quiet {
             eprintln!("bench: {msg}");
         }
-    })?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+    };
+    if args.empirical {
+        let rows = bench::empirical(args.repeats, progress)?;
+        return print(args.json, rows.as_slice(), bench::empirical_table);
+    }
+    let report = bench::run(&opts, progress)?;
+    print(args.json, &report, bench::table)
+}
+
+/// `value` as JSON on stdout with `--json`, else as its table.
+fn print<T: serde::Serialize + ?Sized>(
+    json: bool,
+    value: &T,
+    table: impl FnOnce(&T) -> String,
+) -> Result<ExitCode> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(value)?);
     } else {
-        print!("{}", bench::table(&report));
+        print!("{}", table(value));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -95,11 +95,7 @@ pub fn ordered_all(
                         .remove(0);
                         if a.growth_rate.is_finite() {
                             row.growth_rate = Some(a.growth_rate);
-                            row.q_d = a
-                                .sectors
-                                .iter()
-                                .find(|s| s.j == a.most_unstable_j)
-                                .map(|s| s.q_d);
+                            row.q_d = a.most_unstable_q_d();
                             row.t_disorder = a.t_disorder_predicted;
                         } else {
                             row.note = Some(
@@ -231,11 +227,7 @@ pub fn growth_map(
                             GrowthCell {
                                 growth_rate: Some(a.growth_rate),
                                 growth_rate_per_period: Some(a.growth_rate_per_period),
-                                q_d: a
-                                    .sectors
-                                    .iter()
-                                    .find(|s| s.j == a.most_unstable_j)
-                                    .map(|s| s.q_d),
+                                q_d: a.most_unstable_q_d(),
                                 t_disorder: a.t_disorder_predicted,
                                 ..cell(a.c0_over_u)
                             }

@@ -68,6 +68,16 @@ pub struct AtC0 {
     pub mode: Vec<[f64; 4]>,
 }
 
+impl AtC0 {
+    /// The most unstable sector's q d.
+    pub fn most_unstable_q_d(&self) -> Option<f64> {
+        self.sectors
+            .iter()
+            .find(|s| s.j == self.most_unstable_j)
+            .map(|s| s.q_d)
+    }
+}
+
 /// What is analysed, beyond the scene. Its `Default` is `shearsph
 /// stability`'s defaults (at c0 = 10 U), which the command's flags read.
 #[derive(Debug, Clone)]
@@ -134,11 +144,7 @@ pub fn ordered_at(scene: &Scene, t: &crate::problem::c0::C0Table) -> Result<Vec<
             rule: r.rule.to_string(),
             c0_over_u: c,
             growth_rate: a.growth_rate,
-            most_unstable_q_d: a
-                .sectors
-                .iter()
-                .find(|s| s.j == a.most_unstable_j)
-                .map(|s| s.q_d),
+            most_unstable_q_d: a.most_unstable_q_d(),
             t_disorder_from_1e_4: a.t_disorder_predicted,
             failed: !a.growth_rate.is_finite(),
         });
