@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 
 use shearsph::charts::pareto_flags;
 use shearsph::kernels::{self, KERNELS};
-use shearsph::report::Config;
+use shearsph::report::ReportConfig;
 use shearsph::sweep::Class;
 
 /// The quick report, made once for every test here.
@@ -214,7 +214,7 @@ fn figure4_csv_is_the_generated_eps_at_and_the_solver_agrees() {
         curves.insert((r["kernel"].clone(), n));
     }
     // Layers 0, N - R and N - 1 of every kernel.
-    let big_n = Config::quick().figure4.n;
+    let big_n = ReportConfig::quick().figure4.n;
     for k in KERNELS {
         let r = k.support.ceil() as u32;
         for n in [0, big_n - r, big_n - 1] {
@@ -253,7 +253,7 @@ fn figure4_square_is_each_kernels_square_eps_at_and_the_solver_agrees() {
 
 #[test]
 fn each_stability_map_has_one_valid_row_per_grid_point() {
-    let maps = Config::quick().maps;
+    let maps = ReportConfig::quick().maps;
     for k in KERNELS {
         let rows = csv(&format!("stability_{}.csv", k.name));
         let mut seen = BTreeSet::new();
@@ -396,7 +396,7 @@ fn tables_are_the_generated_values_beside_the_print() {
 
 #[test]
 fn verdicts_and_empirical_c0_follow_from_the_runs() {
-    let config = Config::quick();
+    let config = ReportConfig::quick();
     let runs = csv("runs.csv");
     let compare = csv("c0_compare.csv");
     let verdicts: serde_json::Value =
@@ -492,7 +492,7 @@ fn verdicts_and_empirical_c0_follow_from_the_runs() {
 /// scene: one engine, one search, one horizon.
 #[test]
 fn the_report_and_c0_empirical_give_the_same_answer() {
-    let config = Config::quick();
+    let config = ReportConfig::quick();
     let e = csv("empirical_c0.csv")
         .into_iter()
         .find(|e| {
@@ -597,7 +597,7 @@ fn the_answer_says_how_long_the_ordered_lattice_lasts() {
 #[test]
 fn the_growth_map_covers_every_kernel_discretisation_re_and_c0() {
     let dir = report_dir();
-    let config = shearsph::report::Config::quick();
+    let config = shearsph::report::ReportConfig::quick();
     let g = &config.growth;
     let cells: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("growth_map.json")).unwrap())

@@ -21,7 +21,7 @@ use serde::Serialize;
 use crate::config::{Initial, Scene};
 use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
-use crate::problem::lattice::Lattice;
+use crate::problem::lattice::LatticeGeometry;
 use crate::problem::Problem;
 use crate::solver::{self, StepsRun};
 pub use budget::{check, estimated_seconds, MAX_BENCH_S};
@@ -141,11 +141,12 @@ pub fn layers_for(scene: &Scene, target: usize) -> Result<u32> {
         s.n_layers = n;
         match crate::problem::channel::Channel::resolve(&s, info) {
             Ok(c) if scene.jitter > 0.0 => c.lattice.n_particles(),
-            _ => Lattice::new(scene.lattice, n, scene.d, h, info.support).n_particles(),
+            _ => LatticeGeometry::new(scene.lattice, n, scene.d, h, info.support).n_particles(),
         }
     };
     // Particles grow by 2 C per layer: start from the estimate, then step.
-    let per_layer = 2 * Lattice::new(scene.lattice, 1, scene.d, h, info.support).columns as usize;
+    let per_layer =
+        2 * LatticeGeometry::new(scene.lattice, 1, scene.d, h, info.support).columns as usize;
     let mut n = (target / per_layer).max(1) as u32;
     while n > 1 && count(n - 1) >= target {
         n -= 1;

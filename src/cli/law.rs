@@ -13,7 +13,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
-use crate::law::{self, describe, Config, Law};
+use crate::law::{self, describe, Law, LawConfig};
 use crate::output::{prepare_dir, write_atomic};
 
 /// The empirical c0_min per kernel over N x Re x alpha, and its fitted law
@@ -44,9 +44,9 @@ pub fn main(args: LawArgs) -> Result<ExitCode> {
     let mut config = super::load_config(
         args.config.as_deref(),
         args.quick,
-        Config::parse,
-        Config::quick,
-        Config::default_full,
+        LawConfig::parse,
+        LawConfig::quick,
+        LawConfig::default_full,
     )?;
     if !args.kernel.is_empty() {
         crate::config::bounds::distinct("--kernel", &args.kernel)?;

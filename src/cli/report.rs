@@ -10,7 +10,7 @@ use clap::Args;
 
 use super::interrupt::{stop_flag, EXIT_INTERRUPTED};
 use super::sweep::scenes_bar;
-use crate::report::{self, Config, Options};
+use crate::report::{self, Options, ReportConfig};
 use crate::sweep::Parallel;
 
 /// Reproduce the paper's tables and figure, test the derived c0 with the
@@ -48,9 +48,9 @@ pub fn main(args: ReportArgs) -> Result<ExitCode> {
     let config = super::load_config(
         args.config.as_deref(),
         args.quick,
-        Config::parse,
-        Config::quick,
-        Config::default_full,
+        ReportConfig::parse,
+        ReportConfig::quick,
+        ReportConfig::default_full,
     )?;
     let stop =
         stop_flag("stopping the report's scenes; the report keeps only files already complete")?;

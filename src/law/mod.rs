@@ -31,7 +31,7 @@ pub const QUICK_CONFIG: &str = include_str!("quick.toml");
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Config {
+pub struct LawConfig {
     pub kernels: Vec<String>,
     pub n: Vec<u32>,
     pub re: Vec<f64>,
@@ -47,9 +47,9 @@ pub struct Config {
     pub scene: toml::Table,
 }
 
-impl Config {
-    pub fn parse(text: &str, origin: &str) -> Result<Config> {
-        let c: Config =
+impl LawConfig {
+    pub fn parse(text: &str, origin: &str) -> Result<LawConfig> {
+        let c: LawConfig =
             toml::from_str(text).with_context(|| format!("reading law config {origin}"))?;
         for (field, empty) in [
             ("kernels", c.kernels.is_empty()),
@@ -104,12 +104,13 @@ impl Config {
         Ok(c)
     }
 
-    pub fn default_full() -> Config {
-        Config::parse(DEFAULT_CONFIG, "src/law/law.toml").expect("the embedded law config is valid")
+    pub fn default_full() -> LawConfig {
+        LawConfig::parse(DEFAULT_CONFIG, "src/law/law.toml")
+            .expect("the embedded law config is valid")
     }
 
-    pub fn quick() -> Config {
-        Config::parse(QUICK_CONFIG, "src/law/quick.toml")
+    pub fn quick() -> LawConfig {
+        LawConfig::parse(QUICK_CONFIG, "src/law/quick.toml")
             .expect("the embedded quick config is valid")
     }
 
@@ -185,14 +186,14 @@ pub struct Point {
 
 /// Run every point of `config` (in parallel; each run on one thread),
 /// ticking `bar` per point.
-pub fn run(config: &Config, bar: &ProgressBar) -> Result<Vec<Point>> {
+pub fn run(config: &LawConfig, bar: &ProgressBar) -> Result<Vec<Point>> {
     run_until(config, bar, &AtomicBool::new(false))
 }
 
 /// [`run`], starting no point once `stop` is set (a signal): the points
 /// finished by then, in order. The points run one after another, each
 /// engine's runs across the cores, so a stop keeps every point finished.
-pub fn run_until(config: &Config, bar: &ProgressBar, stop: &AtomicBool) -> Result<Vec<Point>> {
+pub fn run_until(config: &LawConfig, bar: &ProgressBar, stop: &AtomicBool) -> Result<Vec<Point>> {
     let search = config.search();
     let keys = config.points();
     // every scene valid before the first run
@@ -412,7 +413,7 @@ pub fn fit_kernel(kernel: &str, points: &[Point]) -> KernelLaw {
 /// law.json: the config, every point and each kernel's fits.
 #[derive(Debug, Clone, Serialize)]
 pub struct Law {
-    pub config: Config,
+    pub config: LawConfig,
     pub points: Vec<Point>,
     pub laws: Vec<KernelLaw>,
     /// Wall-clock seconds of the whole sweep.
@@ -420,7 +421,7 @@ pub struct Law {
 }
 
 impl Law {
-    pub fn new(config: &Config, points: Vec<Point>, wall_s: f64) -> Law {
+    pub fn new(config: &LawConfig, points: Vec<Point>, wall_s: f64) -> Law {
         let laws = config
             .kernels
             .iter()
@@ -469,7 +470,7 @@ mod tests {
         assert!(files.len() >= 3, "{files:?}");
         for f in files {
             let text = std::fs::read_to_string(&f).unwrap();
-            if let Err(e) = Config::parse(&text, &f.display().to_string()) {
+            if let Err(e) = LawConfig::parse(&text, &f.display().to_string()) {
                 panic!("{}: {e:#}", f.display());
             }
         }
@@ -546,7 +547,9 @@ mod tests {
                     }
                 })
                 .collect();
-            let err = Config::parse(&text, "my-law.toml").unwrap_err().to_string();
+            let err = LawConfig::parse(&text, "my-law.toml")
+                .unwrap_err()
+                .to_string();
             assert!(
                 err.contains("my-law.toml") && err.contains(&format!("`{field}`")),
                 "{field} = {bad}: {err}"
@@ -556,14 +559,14 @@ mod tests {
 
     #[test]
     fn the_embedded_configs_parse_and_their_points_resolve() {
-        for c in [Config::default_full(), Config::quick()] {
+        for c in [LawConfig::default_full(), LawConfig::quick()] {
             assert!(!c.n.is_empty() && c.re.len() >= 2);
             for (k, n, re, a) in c.points() {
                 let s = c.scene(&k, n, re, a).unwrap();
                 crate::problem::c0::table(&s).unwrap();
             }
         }
-        let full = Config::default_full();
+        let full = LawConfig::default_full();
         assert!(full.n.len() >= 4 && full.re.len() >= 4 && full.alpha == [0.0, 0.1]);
     }
 }

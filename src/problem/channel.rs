@@ -7,12 +7,12 @@ use crate::config::{invalid, positive, Scene, SceneError};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, KernelInfo};
 
-use super::lattice::{Lattice, CLOSED_TOL};
+use super::lattice::{LatticeGeometry, CLOSED_TOL};
 
 /// The lattice and the flow of a scene, for one kernel.
 #[derive(Debug, Clone)]
 pub struct Channel {
-    pub lattice: Lattice,
+    pub lattice: LatticeGeometry,
     /// What the generator derived for the scene's lattice and h/d: the c0
     /// models and eps the scene's c0 and checks use.
     pub discretisation: &'static DiscretisationInfo,
@@ -28,7 +28,7 @@ pub struct Channel {
 /// one stays disordered (docs/stationary.md: Monaghan, N = 10, Re = 1,
 /// 30 U: eps_stat 0.003 on 5 columns, 0.010 on 10, 0.011 on 20; at 20 U 20
 /// and 40 columns agree).
-fn disordered_columns(scene: &Scene, lattice: &Lattice) -> Option<u32> {
+fn disordered_columns(scene: &Scene, lattice: &LatticeGeometry) -> Option<u32> {
     let wide = scene.jitter > 0.0;
     let channel = (2.0 * lattice.b() / lattice.d * (1.0 - 1e-12)).ceil();
     (wide && channel > f64::from(lattice.columns) && channel <= 1e5).then_some(channel as u32)
@@ -39,7 +39,7 @@ fn disordered_columns(scene: &Scene, lattice: &Lattice) -> Option<u32> {
 /// triangular one) and so at least one wall layer: below, no particle sees
 /// another, the density is its own, there are no walls and no shear. Named
 /// as `h_over_d`, the field that makes the reach.
-pub fn check_interacts(lattice: &Lattice, info: &KernelInfo) -> Result<(), SceneError> {
+pub fn check_interacts(lattice: &LatticeGeometry, info: &KernelInfo) -> Result<(), SceneError> {
     let reach = info.support * lattice.h * (1.0 + CLOSED_TOL);
     if reach >= lattice.d && lattice.wall_layers >= 1 {
         return Ok(());
@@ -81,7 +81,7 @@ impl Channel {
         positive("d", d)?;
         positive("h_over_d", scene.h_over_d)?;
         super::cost::check_size(scene.lattice, scene.n_layers, d, h, support, scene.skin)?;
-        let mut lattice = Lattice::new(scene.lattice, scene.n_layers, d, h, support);
+        let mut lattice = LatticeGeometry::new(scene.lattice, scene.n_layers, d, h, support);
         if let Some(c) = scene
             .columns
             .or_else(|| disordered_columns(scene, &lattice))
@@ -217,15 +217,15 @@ impl Channel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::Lattice as Kind;
+    use crate::kernel::Lattice;
 
     #[test]
     fn a_support_that_reaches_no_neighbour_is_refused() {
         // h = 1/10 d (a discretisation a user could generate): R h = 0.2 d
         // for the cubic spline, short of the nearest site at d.
         let info = crate::config::kernel_info("monaghan").unwrap();
-        for kind in [Kind::Triangular, Kind::Square] {
-            let thin = Lattice::new(kind, 10, 1.0, 0.1, info.support);
+        for kind in [Lattice::Triangular, Lattice::Square] {
+            let thin = LatticeGeometry::new(kind, 10, 1.0, 0.1, info.support);
             let e = check_interacts(&thin, info).unwrap_err().to_string();
             assert!(
                 e.contains("`h_over_d`") && e.contains("no particle would see another"),
@@ -236,9 +236,9 @@ mod tests {
                 "{e}"
             );
             // The paper's h = d, and R h = d exactly (closed support), pass.
-            let paper = Lattice::new(kind, 10, 1.0, 1.0, info.support);
+            let paper = LatticeGeometry::new(kind, 10, 1.0, 1.0, info.support);
             assert!(check_interacts(&paper, info).is_ok());
-            let edge = Lattice::new(kind, 10, 1.0, 0.5, info.support);
+            let edge = LatticeGeometry::new(kind, 10, 1.0, 0.5, info.support);
             assert!(check_interacts(&edge, info).is_ok(), "{kind:?}");
         }
     }

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::channel::Channel;
 use crate::config::{invalid, SceneError};
 use crate::format::fmt_value;
-use crate::kernel::Lattice as Kind;
+use crate::kernel::Lattice;
 
 /// Seconds per pair evaluation assumed by the run-time estimate: the
 /// solver's measured cost (about 8 ns per listed pair and pass for the cubic
@@ -155,7 +155,7 @@ impl Estimate {
 /// to a reach of [`COUNTED_REACH`] d (the area's pi r^2 / (dy d) misses the
 /// count by 10 % at h = 2 d), the area's estimate beyond (where it is within
 /// a few d / r); it grows as (h / d)^2.
-pub fn listed_neighbours(kind: Kind, d: f64, h: f64, support: f64, skin: f64) -> f64 {
+pub fn listed_neighbours(kind: Lattice, d: f64, h: f64, support: f64, skin: f64) -> f64 {
     // In units of d, so a huge or tiny d cannot overflow the squares.
     let reach = (support + skin) * (h / d);
     let dy = kind.dy(1.0);
@@ -231,7 +231,7 @@ pub fn human_bytes(b: f64) -> String {
 /// Refuse a lattice of more than [`MAX_PARTICLES`] particles before it is
 /// built (the counts would overflow, the memory could not be had).
 pub fn check_size(
-    kind: Kind,
+    kind: Lattice,
     n_layers: u32,
     d: f64,
     h: f64,
@@ -363,7 +363,7 @@ mod tests {
 
     /// Lattice sites (offset rows on the triangular lattice) within `reach`
     /// of a site, itself excluded, by brute force over a box.
-    fn sites_within(kind: Kind, d: f64, reach: f64) -> f64 {
+    fn sites_within(kind: Lattice, d: f64, reach: f64) -> f64 {
         let dy = kind.dy(d);
         let rows = (reach / dy).ceil() as i32 + 1;
         let cols = (reach / d).ceil() as i32 + 1;
@@ -383,7 +383,7 @@ mod tests {
     #[test]
     fn listed_neighbours_are_the_count_on_either_lattice() {
         let (d, support, skin) = (0.7, 2.0, 0.3);
-        for kind in [Kind::Triangular, Kind::Square] {
+        for kind in [Lattice::Triangular, Lattice::Square] {
             for h_over_d in [1.0, 13.0 / 10.0, 2.0, 4.0] {
                 let h = h_over_d * d;
                 let listed = listed_neighbours(kind, d, h, support, skin);
@@ -395,15 +395,15 @@ mod tests {
         // lattice's shells at d, sqrt(3) d, 2 d hold 6 each; the square's at
         // d, sqrt(2) d, 2 d hold 4 each and sqrt(5) d holds 8.
         assert_eq!(
-            listed_neighbours(Kind::Triangular, 1.0, 1.0, 2.0, 0.3),
+            listed_neighbours(Lattice::Triangular, 1.0, 1.0, 2.0, 0.3),
             18.0
         );
-        assert_eq!(listed_neighbours(Kind::Square, 1.0, 1.0, 2.0, 0.3), 20.0);
+        assert_eq!(listed_neighbours(Lattice::Square, 1.0, 1.0, 2.0, 0.3), 20.0);
         // Beyond the counted reach: the area's estimate, one per dy d.
-        let far = listed_neighbours(Kind::Square, 1.0, 100.0, 2.0, 0.3);
+        let far = listed_neighbours(Lattice::Square, 1.0, 100.0, 2.0, 0.3);
         let area = std::f64::consts::PI * 230f64.powi(2);
         assert!((far / area - 1.0).abs() < 1e-12);
-        let tri = listed_neighbours(Kind::Triangular, 1.0, 100.0, 2.0, 0.3);
+        let tri = listed_neighbours(Lattice::Triangular, 1.0, 100.0, 2.0, 0.3);
         assert!((tri * 3f64.sqrt() / 2.0 / area - 1.0).abs() < 1e-12);
     }
 }

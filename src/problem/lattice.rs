@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::kernel::{Kernel, Lattice as Kind};
+use crate::kernel::{Kernel, Lattice};
 
 /// Relative tolerance for "a lattice distance equals the support", the same
 /// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
@@ -13,9 +13,9 @@ pub const CLOSED_TOL: f64 = 1e-9;
 
 /// Where the particles sit and how many there are.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Lattice {
+pub struct LatticeGeometry {
     /// Triangular or square.
-    pub kind: Kind,
+    pub kind: Lattice,
     /// Fluid half-width in layers: fluid layers |n| <= N - 1, B = N dy.
     pub n_layers: u32,
     pub d: f64,
@@ -30,19 +30,19 @@ pub struct Lattice {
     pub wall_layers: u32,
 }
 
-impl Lattice {
+impl LatticeGeometry {
     /// The lattice of kind `kind` for N layers, spacing d, smoothing length
     /// h and kernel support R (in h).
     ///
     /// Width: the fewest whole columns wider than 2 R h, so no particle sees
     /// two images of one neighbour. Walls: every layer within R h of the last
     /// fluid layer n = N - 1 (closed support), and no more.
-    pub fn new(kind: Kind, n_layers: u32, d: f64, h: f64, support: f64) -> Self {
+    pub fn new(kind: Lattice, n_layers: u32, d: f64, h: f64, support: f64) -> Self {
         let reach = support * h * (1.0 + CLOSED_TOL);
         let dy = kind.dy(d);
         let columns = (2.0 * reach / d).floor() as u32 + 1;
         let wall_layers = (reach / dy).floor() as u32;
-        Lattice {
+        LatticeGeometry {
             kind,
             n_layers,
             d,
@@ -84,7 +84,7 @@ impl Lattice {
         let (mut w_sum, mut lyy) = (0.0, 0.0);
         for j in -rows..=rows {
             let shift = match self.kind {
-                Kind::Triangular if j % 2 != 0 => 0.5 * d,
+                Lattice::Triangular if j % 2 != 0 => 0.5 * d,
                 _ => 0.0,
             };
             let y = j as f64 * dy;
@@ -159,23 +159,23 @@ mod tests {
     fn strip_and_walls_fit_the_support() {
         // R = 1, 2, 3 with h = d: widths 3, 5, 7; walls floor(R / dy) = 1, 2, 3.
         for (r, cols, walls) in [(1.0, 3, 1), (2.0, 5, 2), (3.0, 7, 3)] {
-            let l = Lattice::new(Kind::Triangular, 10, 1.0, 1.0, r);
+            let l = LatticeGeometry::new(Lattice::Triangular, 10, 1.0, 1.0, r);
             assert_eq!((l.columns, l.wall_layers), (cols, walls), "R = {r}");
         }
         // A support of exactly 2 dy reaches the second wall layer (closed).
-        let l = Lattice::new(Kind::Triangular, 10, 1.0, 3f64.sqrt() / 2.0, 2.0);
+        let l = LatticeGeometry::new(Lattice::Triangular, 10, 1.0, 3f64.sqrt() / 2.0, 2.0);
         assert_eq!(l.wall_layers, 2);
         // Square, R h = 2.6 d (Wendland C2 at h = 1.3 d): 6 columns, 2 walls;
         // R h = 2 d exactly reaches the second wall layer.
-        let l = Lattice::new(Kind::Square, 10, 1.0, 1.3, 2.0);
+        let l = LatticeGeometry::new(Lattice::Square, 10, 1.0, 1.3, 2.0);
         assert_eq!((l.columns, l.wall_layers, l.dy), (6, 2, 1.0));
-        let l = Lattice::new(Kind::Square, 10, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(Lattice::Square, 10, 1.0, 1.0, 2.0);
         assert_eq!((l.columns, l.wall_layers), (5, 2));
     }
 
     #[test]
     fn square_lattice_has_no_offset() {
-        let l = Lattice::new(Kind::Square, 4, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(Lattice::Square, 4, 1.0, 1.0, 2.0);
         let (x, y, layer) = l.positions();
         for i in 0..x.len() {
             assert_eq!(x[i], f64::from(i as u32 % l.columns));
@@ -186,7 +186,7 @@ mod tests {
 
     #[test]
     fn positions_cover_fluid_then_walls() {
-        let l = Lattice::new(Kind::Triangular, 4, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(Lattice::Triangular, 4, 1.0, 1.0, 2.0);
         let (x, y, layer) = l.positions();
         assert_eq!(x.len(), l.n_particles());
         assert_eq!(l.n_fluid(), 7 * 5);

@@ -30,7 +30,7 @@ use blame::{blame_run_time, c0_inputs};
 pub(crate) use blame::{derived, with};
 use channel::Channel;
 use horizon::{Horizon, HorizonKind};
-use lattice::Lattice;
+use lattice::LatticeGeometry;
 
 /// A scene resolved against its kernel: every number the solver uses.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +39,7 @@ pub struct Problem {
     pub scene: Scene,
     #[serde(skip)]
     pub kernel: &'static KernelInfo,
-    pub lattice: Lattice,
+    pub lattice: LatticeGeometry,
     /// The generator's derivation for the scene's lattice and h/d.
     #[serde(skip)]
     pub discretisation: &'static DiscretisationInfo,
@@ -409,8 +409,8 @@ fn resolve_horizon(scene: &Scene, channel: &Channel) -> Result<Horizon, SceneErr
 }
 
 /// [`Lattice::viscous_lattice_sum`] for the kernel `info` names.
-fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &Lattice) -> f64 {
-    struct Sum<'a>(&'a Lattice);
+fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &LatticeGeometry) -> f64 {
+    struct Sum<'a>(&'a LatticeGeometry);
     impl KernelVisitor for Sum<'_> {
         type Output = f64;
         fn visit<K: Kernel>(self) -> f64 {

@@ -17,7 +17,7 @@ pub const QUICK_CONFIG: &str = include_str!("quick.toml");
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Config {
+pub struct ReportConfig {
     /// Kernel names; empty means every kernel.
     #[serde(default)]
     pub kernels: Vec<String>,
@@ -158,25 +158,25 @@ pub struct Figure4Config {
     pub samples: usize,
 }
 
-impl Config {
-    pub fn parse(text: &str, origin: &str) -> Result<Config> {
+impl ReportConfig {
+    pub fn parse(text: &str, origin: &str) -> Result<ReportConfig> {
         let mut table: toml::Table = toml::from_str(text)
             .map_err(|e| anyhow::anyhow!("{origin}: {}", e.message().trim()))?;
         fill_missing_lattices(&mut table);
-        let c: Config = table
+        let c: ReportConfig = table
             .try_into()
             .map_err(|e: toml::de::Error| anyhow::anyhow!("{origin}: {}", e.message().trim()))?;
         c.check().with_context(|| origin.to_string())?;
         Ok(c)
     }
 
-    pub fn default_full() -> Config {
-        Config::parse(DEFAULT_CONFIG, "src/report/report.toml")
+    pub fn default_full() -> ReportConfig {
+        ReportConfig::parse(DEFAULT_CONFIG, "src/report/report.toml")
             .expect("the embedded report config is valid")
     }
 
-    pub fn quick() -> Config {
-        Config::parse(QUICK_CONFIG, "src/report/quick.toml")
+    pub fn quick() -> ReportConfig {
+        ReportConfig::parse(QUICK_CONFIG, "src/report/quick.toml")
             .expect("the embedded quick config is valid")
     }
 
@@ -335,7 +335,7 @@ impl Config {
             .re
             .iter()
             .position(|m| *m == self.empirical.re[re])
-            .expect("checked by Config::check")
+            .expect("checked by ReportConfig::check")
     }
 
     /// The seeds of a case's starts: 0 (the perfect lattice) or 1..=seeds.
@@ -411,15 +411,15 @@ mod tests {
         };
         let old = cut(&cut(QUICK_CONFIG, "perturbed"), "square");
         assert!(!old.contains("[perturbed]") && !old.contains("[square]"));
-        let c = Config::parse(&old, "old.toml").expect("an old config parses");
-        let q = Config::quick();
+        let c = ReportConfig::parse(&old, "old.toml").expect("an old config parses");
+        let q = ReportConfig::quick();
         assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 3));
         assert_eq!(c.perturbed.re, q.maps.re);
         assert_eq!(c.square.re, q.empirical.re);
         assert_eq!(c.maps.re, q.maps.re);
         // The sections given are kept.
         let mine = format!("{old}\n[square]\nre = []\n");
-        assert!(Config::parse(&mine, "mine.toml")
+        assert!(ReportConfig::parse(&mine, "mine.toml")
             .unwrap()
             .square
             .re
@@ -431,7 +431,7 @@ mod tests {
     /// perturbed.re must.
     #[test]
     fn an_empty_square_re_runs_no_square_lattice() {
-        let mut c = Config::quick();
+        let mut c = ReportConfig::quick();
         c.square.re.clear();
         c.check().expect("square.re = [] is valid");
         let plan = c.plan();
@@ -443,7 +443,7 @@ mod tests {
         let missing = *c.empirical.re.last().expect("the quick config has one");
         let other = *c.maps.re.iter().find(|&&r| r != missing).expect("two Re");
         for field in ["square.re", "perturbed.re"] {
-            let mut bad = Config::quick();
+            let mut bad = ReportConfig::quick();
             if field == "square.re" {
                 bad.square.re = only(other);
             } else {
@@ -456,7 +456,7 @@ mod tests {
 
     #[test]
     fn embedded_configs_parse_and_cover_the_verdicts() {
-        for c in [Config::default_full(), Config::quick()] {
+        for c in [ReportConfig::default_full(), ReportConfig::quick()] {
             let plan = c.plan();
             // One scene per id and horizon (the speed grid's own fixed one).
             let ids: BTreeSet<(bool, String)> = plan
@@ -500,7 +500,7 @@ mod tests {
     #[test]
     fn the_growth_map_is_checked_field_by_field() {
         let bad = |edit: &dyn Fn(&mut GrowthConfig), field: &str| {
-            let mut c = Config::quick();
+            let mut c = ReportConfig::quick();
             edit(&mut c.growth);
             let err = c.check().expect_err(field).to_string();
             assert!(err.contains(field), "{field}: {err}");
@@ -516,14 +516,15 @@ mod tests {
         );
         bad(&|g| g.horizon = 5.0, "growth.horizon");
         bad(&|g| g.horizon = f64::NAN, "growth.horizon");
-        let mut none = Config::quick();
+        let mut none = ReportConfig::quick();
         none.growth.re.clear();
         none.growth.horizon = 0.0;
         none.check().expect("no growth map");
         let start = QUICK_CONFIG
             .find("[growth]")
             .expect("the quick config has a map");
-        let old = Config::parse(&QUICK_CONFIG[..start], "old.toml").expect("an old config parses");
+        let old =
+            ReportConfig::parse(&QUICK_CONFIG[..start], "old.toml").expect("an old config parses");
         assert!(old.growth.re.is_empty() && old.growth.c0_over_u.is_empty());
     }
 }

@@ -13,7 +13,7 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
-use super::config::Config;
+use super::config::ReportConfig;
 use super::plan::Case;
 use crate::config::Scene;
 use crate::empirical::{answer, Answer, Bracket, Extras, Regime, Search, Trial};
@@ -39,7 +39,7 @@ pub struct AtRun {
 #[derive(Debug, Clone, Serialize)]
 pub struct Empirical {
     pub kernel: String,
-    /// The kernel's index in [`Config::kernel_infos`] and the Re's in
+    /// The kernel's index in [`ReportConfig::kernel_infos`] and the Re's in
     /// `empirical.re`: the keys the report joins by.
     #[serde(skip)]
     pub kernel_index: usize,
@@ -150,7 +150,7 @@ struct Target {
 /// The engine's search as the report configures it: the perturbed starts'
 /// jitter and seeds, the bisection's tolerance, the rest `c0 --empirical`'s
 /// defaults.
-pub fn search(config: &Config) -> Search {
+pub fn search(config: &ReportConfig) -> Search {
     Search {
         amplitude: config.perturbed.jitter,
         seeds: config.perturbed.seeds,
@@ -162,7 +162,7 @@ pub fn search(config: &Config) -> Search {
 /// The scene of a target: the built-in scene, the report's `[scene]`, then
 /// the kernel, N, Re, alpha and discretisation.
 pub fn scene(
-    config: &Config,
+    config: &ReportConfig,
     kernel: &str,
     re: f64,
     disc: Discretisation,
@@ -198,7 +198,7 @@ pub fn scene(
 /// every discretisation the report runs, the targets in parallel (each
 /// engine on its worker's threads). `None` when the stop flag cut it short.
 pub fn find_all(
-    config: &Config,
+    config: &ReportConfig,
     infos: &[&'static KernelInfo],
     par: Parallel,
     stop: &AtomicBool,
@@ -260,7 +260,7 @@ pub fn find_all(
 
 /// The two cases of one answer: perfect (ordered) and perturbed
 /// (disordered).
-fn cases(config: &Config, t: &Target, disc: Discretisation, a: Answer) -> Vec<Empirical> {
+fn cases(config: &ReportConfig, t: &Target, disc: Discretisation, a: Answer) -> Vec<Empirical> {
     let a = Arc::new(a);
     let u = a.u;
     [false, true]

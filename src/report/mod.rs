@@ -37,7 +37,8 @@ use crate::solver::FailureKind;
 use crate::sweep::{self, Class, Parallel, Row};
 
 pub use config::{
-    Config, EmpiricalConfig, Figure4Config, MapsConfig, SpeedConfig, DEFAULT_CONFIG, QUICK_CONFIG,
+    EmpiricalConfig, Figure4Config, MapsConfig, ReportConfig, SpeedConfig, DEFAULT_CONFIG,
+    QUICK_CONFIG,
 };
 pub use empirical::Empirical;
 pub use figures::{figure4, map_cells, papers, rule_lines};
@@ -58,7 +59,7 @@ pub struct Options {
 /// Everything the report computed: what the HTML and the files show.
 #[derive(Debug)]
 pub struct ReportData {
-    pub config: Config,
+    pub config: ReportConfig,
     /// The scenes and their keys; `rows[i]` is the run of `plan.points[i]`.
     pub plan: Plan,
     pub quick: bool,
@@ -87,7 +88,7 @@ pub struct ReportData {
 /// and nothing but the files already complete; `log` gets one line per
 /// stage; `bar` counts scenes.
 pub fn run(
-    config: &Config,
+    config: &ReportConfig,
     quick: bool,
     out: &Path,
     opts: Options,

@@ -6,13 +6,13 @@
 
 use std::collections::BTreeMap;
 
-use super::config::Config;
+use super::config::ReportConfig;
 use crate::config::{C0Rule, C0Spec};
 use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
 use crate::problem::c0::all_rules_on;
 use crate::sweep::{pool_rows, Discretisation, HOverD, Point, PointC0, Row};
 
-impl Config {
+impl ReportConfig {
     /// The maps' Re (indices into maps.re) a case runs.
     fn map_res(&self, case: Case) -> Vec<usize> {
         let keep = |re: &f64| {
@@ -107,7 +107,7 @@ impl Config {
         plan
     }
 
-    /// The points of [`Config::plan`].
+    /// The points of [`ReportConfig::plan`].
     pub fn points(&self) -> Vec<Point> {
         self.plan().points
     }
@@ -245,7 +245,7 @@ pub enum Role {
 }
 
 /// A scene's place in the report: the kernel (an index into
-/// [`Config::kernel_infos`]) and its role.
+/// [`ReportConfig::kernel_infos`]) and its role.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Key {
     pub kernel: usize,
@@ -259,7 +259,7 @@ pub struct Plan {
     pub points: Vec<Point>,
     pub keys: Vec<Vec<Key>>,
     /// Whether each point is the speed grid's (run on its fixed horizon,
-    /// [`Config::base`]).
+    /// [`ReportConfig::base`]).
     pub speed: Vec<bool>,
 }
 

@@ -11,7 +11,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::plan::Disc;
-use super::Config;
+use super::ReportConfig;
 use crate::config::C0Spec;
 use crate::format::fmt_num;
 use crate::kernel::KernelInfo;
@@ -43,7 +43,7 @@ pub struct Ordered {
 /// Every kernel's, Re's and rule's; None when `stop` was raised. The quick
 /// report follows each perturbation over 60 t instead of 300.
 pub fn ordered_all(
-    config: &Config,
+    config: &ReportConfig,
     infos: &[&'static KernelInfo],
     quick: bool,
     stop: &AtomicBool,
@@ -175,7 +175,7 @@ pub struct GrowthCell {
 /// perturbation followed over `growth.horizon`; empty when either list is.
 /// None when `stop` was raised.
 pub fn growth_map(
-    config: &Config,
+    config: &ReportConfig,
     infos: &[&'static KernelInfo],
     stop: &AtomicBool,
 ) -> Result<Option<Vec<GrowthCell>>> {

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde::Serialize;
 
-use super::config::Config;
+use super::config::ReportConfig;
 use super::plan::{Case, Plan};
 use crate::config::C0Rule;
 use crate::kernel::{Derived, KernelInfo};
@@ -210,7 +210,7 @@ pub fn table2_csv(t: &[Table2Row]) -> String {
 #[derive(Debug, Clone)]
 pub struct C0Compare {
     pub kernel: String,
-    /// The keys: the kernel's index in [`Config::kernel_infos`], the Re's in
+    /// The keys: the kernel's index in [`ReportConfig::kernel_infos`], the Re's in
     /// `empirical.re`, and the rule (a derived one with its model named).
     pub kernel_index: usize,
     pub re_index: usize,
@@ -244,7 +244,7 @@ pub struct C0Compare {
 
 /// Every rule at every verdict Re for every kernel, in each case.
 pub fn c0_compare(
-    config: &Config,
+    config: &ReportConfig,
     plan: &Plan,
     infos: &[&'static KernelInfo],
     rows: &[Row],
@@ -263,7 +263,7 @@ pub fn c0_compare(
 /// Every rule of kernel `ki` at `empirical.re[ri]` in case `case` (none
 /// when the kernel has no discretisation for it).
 fn compare_at(
-    config: &Config,
+    config: &ReportConfig,
     plan: &Plan,
     rows: &[Row],
     (ki, info): (usize, &'static KernelInfo),
@@ -281,7 +281,7 @@ fn compare_at(
     };
     let scene = point.scene(&config.scene)?;
     let table = c0_table(&scene)?;
-    let particles = crate::problem::lattice::Lattice::new(
+    let particles = crate::problem::lattice::LatticeGeometry::new(
         scene.lattice,
         scene.n_layers,
         scene.d,

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::config::Config;
+use super::config::ReportConfig;
 use super::empirical::Empirical;
 use super::plan::Case;
 use super::tables::C0Compare;
@@ -116,7 +116,7 @@ impl<'a> AtRe<'a> {
 }
 
 pub fn verdicts(
-    config: &Config,
+    config: &ReportConfig,
     infos: &[&'static KernelInfo],
     empirical: &[Empirical],
     compare: &[C0Compare],
@@ -165,7 +165,7 @@ fn derived_c0(at: &AtRe) -> Option<f64> {
         .filter(|c| *c > 0.0 && c.is_finite())
 }
 
-fn verdict_at(config: &Config, re: f64, at: &AtRe) -> VerdictAtRe {
+fn verdict_at(config: &ReportConfig, re: f64, at: &AtRe) -> VerdictAtRe {
     let derived_c0 = derived_c0(at);
     let mut s = Vec::new();
     s.push(derived_sentence(at));
@@ -254,7 +254,7 @@ fn derived_sentence(at: &AtRe) -> String {
 }
 
 /// The conclusion at one Re when the derived c0 is `c` (run `d`).
-fn conclusion(config: &Config, at: &AtRe, d: &C0Compare, c: f64) -> String {
+fn conclusion(config: &ReportConfig, at: &AtRe, d: &C0Compare, c: f64) -> String {
     let emp = at.emp;
     let emp_c0 = emp.and_then(|e| e.c0_over_u);
     let emp_ok = emp.is_some_and(|e| e.c0_over_u.is_some());

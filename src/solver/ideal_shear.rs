@@ -8,7 +8,7 @@
 use super::neighbours::NeighbourList;
 use super::step::{self, Params, State};
 use crate::kernel::{DiscretisationInfo, Kernel};
-use crate::problem::lattice::Lattice;
+use crate::problem::lattice::LatticeGeometry;
 use crate::problem::{Problem, SceneError};
 
 /// eps = rho / rho0 - 1 of a particle of each layer in `layers` (0 <= n <
@@ -23,7 +23,7 @@ pub fn eps_series<K: Kernel>(
     t_over_period: &[f64],
 ) -> Result<Vec<Vec<f64>>, SceneError> {
     let problem = Problem::ideal_shear(K::INFO, disc, n_layers)?;
-    let lat: Lattice = problem.lattice;
+    let lat: LatticeGeometry = problem.lattice;
     let mut s = State::new(&lat, &problem);
     let prm = Params::new(&problem);
     let cutoff = K::SUPPORT2_CLOSED.sqrt() * lat.h + 0.5 * problem.skin * lat.h;

@@ -2,7 +2,7 @@
 
 mod lists {
     use super::super::*;
-    use crate::problem::lattice::Lattice;
+    use crate::problem::lattice::LatticeGeometry;
 
     /// Brute force over all pairs and images.
     fn brute(x: &[f64], y: &[f64], width: f64, cutoff: f64, i: usize) -> Vec<(u32, i8)> {
@@ -113,7 +113,7 @@ mod lists {
     /// images: each is in two windows, and the lists are still complete.
     #[test]
     fn a_narrow_strip_lists_some_neighbours_twice() {
-        let l = Lattice::new(crate::kernel::Lattice::Square, 4, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(crate::kernel::Lattice::Square, 4, 1.0, 1.0, 2.0);
         let (x, y, _) = l.positions();
         let cutoff = 0.9 * l.width;
         let mut list = NeighbourList::default();
@@ -133,7 +133,7 @@ mod lists {
     /// index and image), whatever the cells.
     #[test]
     fn a_wide_strip_binned_in_x_matches_brute_force() {
-        let mut l = Lattice::new(crate::kernel::Lattice::Square, 4, 1.0, 1.3, 2.0);
+        let mut l = LatticeGeometry::new(crate::kernel::Lattice::Square, 4, 1.0, 1.3, 2.0);
         l.columns = 40;
         l.width = 40.0;
         let (mut x, mut y, _) = l.positions();
@@ -161,7 +161,7 @@ mod lists {
     #[test]
     fn every_column_count_matches_brute_force() {
         for columns in [3u32, 5, 7, 8, 9, 10, 12, 14] {
-            let mut l = Lattice::new(crate::kernel::Lattice::Triangular, 3, 1.0, 1.0, 2.0);
+            let mut l = LatticeGeometry::new(crate::kernel::Lattice::Triangular, 3, 1.0, 1.0, 2.0);
             l.columns = columns;
             l.width = f64::from(columns);
             let (mut x, mut y, _) = l.positions();
@@ -178,7 +178,7 @@ mod lists {
 
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
-        let l = Lattice::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);
         let (mut x, mut y, _) = l.positions();
         jitter(&mut x, &mut y, l.width, 0.3, 0.2);
         let cutoff = 2.3;
@@ -242,11 +242,11 @@ mod lists {
 mod stale_tests {
     use super::super::stale::block_ranges;
     use super::super::*;
-    use crate::problem::lattice::Lattice;
+    use crate::problem::lattice::LatticeGeometry;
 
     #[test]
     fn shear_between_near_layers_triggers_a_rebuild() {
-        let l = Lattice::new(crate::kernel::Lattice::Triangular, 6, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(crate::kernel::Lattice::Triangular, 6, 1.0, 1.0, 2.0);
         let (x, y, layer) = l.positions();
         let mut list = NeighbourList::default();
         list.build(&x, &y, l.width, 2.3, l.columns as usize);
@@ -312,7 +312,7 @@ mod stale_tests {
         // blocks are not in order of y), on the lattice (layers exactly
         // one cutoff apart at cutoff 1) and jittered in y by up to a third
         // of the spacing.
-        let l = Lattice::new(crate::kernel::Lattice::Square, 60, 1.0, 1.0, 2.0);
+        let l = LatticeGeometry::new(crate::kernel::Lattice::Square, 60, 1.0, 1.0, 2.0);
         let (x, mut y, _) = l.positions();
         let block = l.columns as usize;
         let check = |y: &[f64], cutoff: f64| {

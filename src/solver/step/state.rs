@@ -1,7 +1,7 @@
 //! The particle state (structure of arrays), its start on the lattice, and
 //! the per-step constants the pair loops read ([`Params`]).
 
-use crate::problem::lattice::Lattice;
+use crate::problem::lattice::LatticeGeometry;
 use crate::problem::{Initial, PressureForm, Problem};
 
 /// Fluid particles come first (indices < n_fluid), the fixed walls after.
@@ -51,7 +51,7 @@ pub(crate) struct State {
 }
 
 impl State {
-    pub fn new(lattice: &Lattice, problem: &Problem) -> Self {
+    pub fn new(lattice: &LatticeGeometry, problem: &Problem) -> Self {
         let (mut x, mut y, layer) = lattice.positions();
         let n = x.len();
         let n_fluid = lattice.n_fluid();
