@@ -37,9 +37,15 @@ fn sweep_class(n: u32, c0: &str, rules: &ClassRules) -> Class {
         alpha: scene.alpha,
         c0: PointC0::Spec(c0.parse().unwrap()),
     };
-    run_point(&point, &toml::Table::new(), rules, &AtomicBool::new(false))
-        .unwrap()
-        .class
+    run_point(
+        &point,
+        &toml::Table::new(),
+        rules,
+        &AtomicBool::new(false),
+        None,
+    )
+    .unwrap()
+    .class
 }
 
 #[test]

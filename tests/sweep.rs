@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use serde_json::Value;
 use shearsph::sweep::store::{self, JSONL_FILE};
-use shearsph::sweep::{run_sweep, Class, Parallel, Row, Shard, SweepSpec};
+use shearsph::sweep::{run_sweep, Class, Row, Shard, ShardArg, SweepRequest, SweepSpec};
 
 /// A small grid of short scenes: 3 kernels x 2 N x 2 Re x 3 c0 = 36 points,
 /// with a c0 rule that has no positive root for one kernel.
@@ -35,11 +35,10 @@ fn spec() -> SweepSpec {
 fn run(dir: &Path, spec: Option<SweepSpec>, shard: Option<Shard>) -> shearsph::sweep::SweepRun {
     let stop = AtomicBool::new(false);
     run_sweep(
-        dir,
-        spec,
-        false,
-        shard,
-        Parallel::per_core(),
+        SweepRequest {
+            shard: shard.map(ShardArg::Fixed),
+            ..SweepRequest::new(dir, spec)
+        },
         &stop,
         &ProgressBar::hidden(),
         &|_| {},
@@ -129,11 +128,7 @@ fn a_sweep_runs_every_point_once_and_resumes_without_rerunning() {
     other.re = vec![2.0];
     let stop = AtomicBool::new(false);
     let err = run_sweep(
-        &dir,
-        Some(other),
-        false,
-        None,
-        Parallel::per_core(),
+        SweepRequest::new(&dir, Some(other)),
         &stop,
         &ProgressBar::hidden(),
         &|_| {},
@@ -211,11 +206,7 @@ fn a_sweep_stopped_after_some_points_resumes_losing_nothing() {
     let seen = AtomicUsize::new(0);
     let k = 5;
     let first = run_sweep(
-        &dir,
-        Some(spec()),
-        false,
-        None,
-        Parallel::per_core(),
+        SweepRequest::new(&dir, Some(spec())),
         &stop,
         &ProgressBar::hidden(),
         &|_| {
@@ -280,11 +271,7 @@ fn a_scene_stopped_mid_run_leaves_no_row() {
             stop.store(true, Ordering::SeqCst);
         });
         run_sweep(
-            &dir,
-            Some(spec),
-            false,
-            None,
-            Parallel::per_core(),
+            SweepRequest::new(&dir, Some(spec)),
             &stop,
             &ProgressBar::hidden(),
             &|row| panic!("no row expected, got {}", row.id),

@@ -9,17 +9,13 @@ use std::sync::atomic::AtomicBool;
 use indicatif::ProgressBar;
 use shearsph::sweep::store::{self, CSV_FILE, JSONL_FILE, SPEC_FILE};
 use shearsph::sweep::{
-    pool_over_seeds, pool_rows, run_point, run_sweep, Class, ClassRules, Parallel, Point, PointC0,
-    Row, SweepSpec,
+    pool_over_seeds, pool_rows, run_point, run_sweep, Class, ClassRules, Point, PointC0, Row,
+    SweepRequest, SweepSpec,
 };
 
 fn run(dir: &Path, spec: Option<SweepSpec>) -> shearsph::sweep::SweepRun {
     run_sweep(
-        dir,
-        spec,
-        false,
-        None,
-        Parallel::per_core(),
+        SweepRequest::new(dir, spec),
         &AtomicBool::new(false),
         &ProgressBar::hidden(),
         &|_| {},
@@ -188,14 +184,14 @@ fn the_sweeps_classes_are_the_scenes_bounds() {
     let mut base = toml::Table::new();
     base.insert("t_end".into(), toml::Value::Float(5.0));
     let stop = AtomicBool::new(false);
-    let loose = run_point(&point, &base, &ClassRules::default(), &stop).unwrap();
+    let loose = run_point(&point, &base, &ClassRules::default(), &stop, None).unwrap();
     assert_eq!(loose.class, Class::Ok);
     // a bound just below its error: inaccurate, and the row says which bound
     let tight = ClassRules {
         linf_bound: loose.linf_max * 0.5,
         ..ClassRules::default()
     };
-    let row: Row = run_point(&point, &base, &tight, &stop).unwrap();
+    let row: Row = run_point(&point, &base, &tight, &stop, None).unwrap();
     assert_eq!(row.class, Class::Inaccurate);
     assert_eq!(row.linf_bound, tight.linf_bound);
     // and `run` on the scene the sweep built classifies it the same

@@ -414,19 +414,19 @@ fn run(args: RunSweepArgs) -> Result<ExitCode> {
     let origins = args.origins()?;
     let stop = stop_on_ctrl_c()?;
     let bar = scenes_bar(args.quiet);
-    let r = sweep::run_sweep_with(
-        &args.out,
-        spec,
-        args.force,
-        args.shard,
-        par,
-        stop,
-        &bar,
-        &|_| {},
-        &sweep::SweepExtras {
+    let r = sweep::run_sweep(
+        sweep::SweepRequest {
+            dir: &args.out,
+            spec,
+            force: args.force,
+            shard: args.shard,
+            par,
             particles_every: args.particles_every,
             origins: Some(&origins),
         },
+        stop,
+        &bar,
+        &|_| {},
     )?;
     bar.finish_and_clear();
     if !args.no_charts {

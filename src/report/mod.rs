@@ -138,6 +138,7 @@ pub fn run(
             opts.par,
             stop,
             &on_row,
+            None,
         )?;
         if stopped {
             return Err(interrupted());

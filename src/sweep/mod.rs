@@ -62,17 +62,6 @@ impl Observer for StopWatch<'_> {
     }
 }
 
-/// Run one point on the current thread (and rayon pool). `None` when the
-/// stop flag ended it before it finished.
-pub fn run_point(
-    point: &Point,
-    base: &toml::Table,
-    rules: &ClassRules,
-    stop: &AtomicBool,
-) -> Option<Row> {
-    run_point_with(point, base, rules, stop, None)
-}
-
 /// Where a sweep writes particle snapshots: every `every`-th output time of
 /// each point into `root/`[`Point::particle_dir`] (`sweep --particles-every K`).
 #[derive(Debug, Clone, Copy)]
@@ -103,9 +92,11 @@ impl Point {
     }
 }
 
-/// [`run_point`], and with `particles` the point's particle snapshots and
-/// picture (a write error is printed and costs the snapshots, not the row).
-pub fn run_point_with(
+/// Run one point on the current thread (and rayon pool); with `particles`
+/// its particle snapshots and picture too (a write error is printed and
+/// costs the snapshots, not the row). `None` when the stop flag ended it
+/// before it finished.
+pub fn run_point(
     point: &Point,
     base: &toml::Table,
     rules: &ClassRules,
@@ -327,22 +318,11 @@ impl Parallel {
     }
 }
 
-/// Run `points` (longest first), skipping any whose id is in `done_ids`.
-/// `on_row` sees each row as it finishes (on a worker thread). Returns the
-/// new rows, in grid order, and whether the stop flag cut the run short.
+/// Run `points` (longest first), with each point's particle snapshots when
+/// `particles`. `on_row` sees each row as it finishes (on a worker thread).
+/// Returns the new rows, in grid order, and whether the stop flag cut the
+/// run short.
 pub fn run_points(
-    points: &[Point],
-    base: &toml::Table,
-    rules: &ClassRules,
-    par: Parallel,
-    stop: &AtomicBool,
-    on_row: &(dyn Fn(&Row) + Sync),
-) -> Result<(Vec<Row>, bool)> {
-    run_points_with(points, base, rules, par, stop, on_row, None)
-}
-
-/// [`run_points`], with each point's particle snapshots when `particles`.
-pub fn run_points_with(
     points: &[Point],
     base: &toml::Table,
     rules: &ClassRules,
@@ -365,7 +345,7 @@ pub fn run_points_with(
     let results = par.map(
         &todo,
         stop,
-        |p| run_point_with(p, base, rules, stop, particles),
+        |p| run_point(p, base, rules, stop, particles),
         |_, row| on_row(row),
     )?;
     let finished = results.iter().filter(|r| r.is_some()).count();
@@ -391,66 +371,56 @@ pub struct SweepRun {
     pub interrupted: bool,
 }
 
-/// Run (or resume) the sweep in `dir`: see [`store::open`] for `spec` and
-/// `force`. Only the points of `shard` run; finished points are skipped.
-/// `bar` counts the points of this run; `watch` sees each row once it is
-/// stored.
-#[allow(clippy::too_many_arguments)]
-pub fn run_sweep(
-    dir: &Path,
-    spec: Option<SweepSpec>,
-    force: bool,
-    shard: Option<Shard>,
-    par: Parallel,
-    stop: &AtomicBool,
-    bar: &ProgressBar,
-    watch: &(dyn Fn(&Row) + Sync),
-) -> Result<SweepRun> {
-    run_sweep_with(
-        dir,
-        spec,
-        force,
-        shard.map(ShardArg::Fixed),
-        par,
-        stop,
-        bar,
-        watch,
-        &SweepExtras::default(),
-    )
-}
-
-/// What [`run_sweep_with`] takes beyond [`run_sweep`]'s.
-#[derive(Default)]
-pub struct SweepExtras<'a> {
-    /// Each point's particle snapshots (every K-th output time) and picture
-    /// under `dir/particles/`.
+/// A sweep to run or resume: its folder; its grid (None: the folder's own,
+/// see [`store::open`] for `spec` and `force`); its shard, as given (`auto`
+/// read from Slurm unless the folder records its shard, see
+/// [`ShardArg::resolve`]; None: the folder's, or every point); how it runs
+/// in parallel; each point's particle snapshots (every K-th output time) and
+/// picture under `dir/particles/`; and where the grid's values came from,
+/// for its errors (None: named as the sweep's fields).
+pub struct SweepRequest<'a> {
+    pub dir: &'a Path,
+    pub spec: Option<SweepSpec>,
+    pub force: bool,
+    pub shard: Option<ShardArg>,
+    pub par: Parallel,
     pub particles_every: Option<u64>,
-    /// Where the grid's values came from, for its errors (default: named as
-    /// the sweep's fields).
     pub origins: Option<&'a dyn Origins>,
 }
 
-/// [`run_sweep`], with `shard` as given (`auto` read from Slurm unless the
-/// folder records its shard, see [`ShardArg::resolve`]) and the
-/// [`SweepExtras`]. Under the folder's lock, before anything runs: the
-/// shard is settled (and recorded in the folder), and every point of it
-/// checked ([`check_points`]; a new grid before the folder is written).
-#[allow(clippy::too_many_arguments)]
-pub fn run_sweep_with(
-    dir: &Path,
-    spec: Option<SweepSpec>,
-    force: bool,
-    shard: Option<ShardArg>,
-    par: Parallel,
+impl<'a> SweepRequest<'a> {
+    /// The sweep of `spec` in `dir`: resumed (not forced), every point of
+    /// it (no shard), one scene per core, no snapshots.
+    pub fn new(dir: &'a Path, spec: Option<SweepSpec>) -> Self {
+        SweepRequest {
+            dir,
+            spec,
+            force: false,
+            shard: None,
+            par: Parallel::per_core(),
+            particles_every: None,
+            origins: None,
+        }
+    }
+}
+
+/// Run (or resume) the sweep `req` asks. Under the folder's lock, before
+/// anything runs: the shard is settled (and recorded in the folder), and
+/// every point of it checked ([`check_points`]; a new grid before the
+/// folder is written). Only the points of the shard run; finished points
+/// are skipped. `bar` counts the points of this run; `watch` sees each row
+/// once it is stored.
+pub fn run_sweep(
+    req: SweepRequest<'_>,
     stop: &AtomicBool,
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
-    extras: &SweepExtras,
 ) -> Result<SweepRun> {
     // A sweep refused before it wrote anything leaves no folder behind:
     // the one the lock created (empty, ours) is removed again.
+    let dir = req.dir;
     let created = !dir.exists();
-    let r = sweep_in(dir, spec, force, shard, par, stop, bar, watch, extras);
+    let r = sweep_in(req, stop, bar, watch);
     if r.is_err() && created {
         let empty = std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_none());
         if empty {
@@ -460,20 +430,23 @@ pub fn run_sweep_with(
     r
 }
 
-#[allow(clippy::too_many_arguments)]
 fn sweep_in(
-    dir: &Path,
-    spec: Option<SweepSpec>,
-    force: bool,
-    shard: Option<ShardArg>,
-    par: Parallel,
+    req: SweepRequest<'_>,
     stop: &AtomicBool,
     bar: &ProgressBar,
     watch: &(dyn Fn(&Row) + Sync),
-    extras: &SweepExtras,
 ) -> Result<SweepRun> {
+    let SweepRequest {
+        dir,
+        spec,
+        force,
+        shard,
+        par,
+        particles_every,
+        origins,
+    } = req;
     let particles_root = dir.join("particles");
-    let origins = extras.origins.unwrap_or(&Unlabelled);
+    let origins = origins.unwrap_or(&Unlabelled);
     // One sweep per folder at a time: the lock is held until this returns.
     let _lock = store::lock(dir)?;
     // A start over forgets the folder's shard.
@@ -535,14 +508,14 @@ fn sweep_in(
         bar.inc(1);
         watch(row);
     };
-    let (new_rows, interrupted) = run_points_with(
+    let (new_rows, interrupted) = run_points(
         &todo,
         &spec.scene,
         &spec.classes,
         par,
         stop,
         &on_row,
-        extras.particles_every.map(|every| ParticleDump {
+        particles_every.map(|every| ParticleDump {
             root: &particles_root,
             every,
         }),
