@@ -25,7 +25,7 @@ pub fn eps_series<K: Kernel>(
     let problem = Problem::ideal_shear(K::INFO, disc, n_layers)?;
     let lat: LatticeGeometry = problem.lattice;
     let mut s = State::new(&lat, &problem);
-    let prm = Params::new(&problem);
+    let params = Params::new(&problem);
     let cutoff = K::SUPPORT2_CLOSED.sqrt() * lat.h + 0.5 * problem.skin * lat.h;
     let block = lat.columns as usize;
     let period = lat.d * f64::from(n_layers).powi(2) / problem.flow.u;
@@ -56,7 +56,7 @@ pub fn eps_series<K: Kernel>(
         }
         s.wrap(lat.width);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
-        step::density::<K>(&mut s, &list, &prm);
+        step::density::<K>(&mut s, &list, &params);
         for (l, &i) in pick.iter().enumerate() {
             out[l].push(s.rho[i] / problem.rho0 - 1.0);
         }

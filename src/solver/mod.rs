@@ -108,7 +108,7 @@ impl Observer for Quiet {}
 pub fn run<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
     // Drive the loop from a worker thread, so each parallel pass is a cheap
     // fork inside the pool rather than a hand-off from outside it.
-    rayon::scope(|_| run_here::<K>(problem, observer))
+    rayon::scope(|_| run_in_pool::<K>(problem, observer))
 }
 
 /// The state of a run between steps: particles, neighbour list and what
@@ -117,7 +117,7 @@ pub fn run<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResu
 struct Sim<'p> {
     problem: &'p Problem,
     s: State,
-    prm: Params,
+    params: Params,
     list: NeighbourList,
     /// Each lattice layer's displacement box and largest |y|, per step.
     motion: Vec<(Displacements, f64)>,
@@ -144,7 +144,7 @@ impl<'p> Sim<'p> {
         let lat = problem.lattice;
         let h = lat.h;
         let mut s = State::new(&lat, problem);
-        let prm = Params::new(problem);
+        let params = Params::new(problem);
         let skin = problem.skin * h;
         let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
         // Blocks for the rebuild rule: the lattice layers, stored in turn.
@@ -152,12 +152,12 @@ impl<'p> Sim<'p> {
         let mut list = NeighbourList::default();
         s.wrap(lat.width);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
-        let max_eps = step::density::<K>(&mut s, &list, &prm);
-        let forces = step::forces(&mut s, &list, &prm, 0.0);
+        let max_eps = step::density::<K>(&mut s, &list, &params);
+        let forces = step::forces(&mut s, &list, &params, 0.0);
         Sim {
             problem,
             s,
-            prm,
+            params,
             list,
             motion: Vec::with_capacity(lat.fluid_layers() as usize),
             block,
@@ -201,11 +201,11 @@ impl<'p> Sim<'p> {
             self.rebuild_s += start.elapsed().as_secs_f64();
         }
         let start = Instant::now();
-        step::kernel_pass::<K>(&mut self.s, &self.list, &self.prm);
+        step::kernel_pass::<K>(&mut self.s, &self.list, &self.params);
         let kernel = Instant::now();
-        self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.prm);
+        self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.params);
         let sums = Instant::now();
-        self.forces = step::forces(&mut self.s, &self.list, &self.prm, 0.5 * dt);
+        self.forces = step::forces(&mut self.s, &self.list, &self.params, 0.5 * dt);
         let end = Instant::now();
         for (acc, (a, b)) in
             self.pass_s
@@ -292,7 +292,7 @@ impl<'p> Sim<'p> {
     /// evaluations a step makes. Sequential; for benchmarks.
     fn pairs_in_support<K: Kernel>(&self) -> usize {
         let (x, y) = (&self.s.x, &self.s.y);
-        let inv_h2 = self.prm.inv_h2;
+        let inv_h2 = self.params.inv_h2;
         (0..x.len())
             .map(|i| {
                 let width = self.list.width();
@@ -328,7 +328,7 @@ impl<'p> Sim<'p> {
             .map(|i| self.list.sources_padded(i).len() as f64)
             .sum();
         let windows = self.list.window_count() as f64;
-        let depth = if self.prm.mirror_walls { 8.0 } else { 0.0 };
+        let depth = if self.params.mirror_walls { 8.0 } else { 0.0 };
         let kernel = own * 40.0 + 16.0 * n;
         let sum = padded * 12.0 + 4.0 * n + 32.0 * n;
         let window = size_of::<crate::solver::neighbours::Window>() as f64;
@@ -345,7 +345,7 @@ impl<'p> Sim<'p> {
     }
 }
 
-fn run_here<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
+fn run_in_pool<K: Kernel>(problem: &Problem, observer: &mut dyn Observer) -> RunResult {
     let start = Instant::now();
     let mut sim = Sim::new::<K>(problem);
     let mean_neighbours = sim.list.pairs() as f64 / sim.s.x.len() as f64;

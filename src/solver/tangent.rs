@@ -106,8 +106,8 @@ impl Sim<'_> {
         self.s.wrap(lat.width);
         self.list
             .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
-        self.max_eps = super::step::density::<K>(&mut self.s, &self.list, &self.prm);
-        self.forces = super::step::forces(&mut self.s, &self.list, &self.prm, 0.0);
+        self.max_eps = super::step::density::<K>(&mut self.s, &self.list, &self.params);
+        self.forces = super::step::forces(&mut self.s, &self.list, &self.params, 0.0);
     }
 }
 
@@ -280,11 +280,11 @@ mod tests {
     /// differentiated by hand: over the fluid's positions [x; y], at the
     /// positions `x`, `y` (fluid first, then the walls, which do not move).
     fn pressure_jacobian<K: Kernel>(sim: &Sim, x: &[f64], y: &[f64]) -> DMatrix<f64> {
-        let prm = &sim.prm;
+        let params = &sim.params;
         let (n, all) = (sim.s.n_fluid, x.len());
         let h = sim.problem.lattice.h;
         let w = sim.problem.lattice.width;
-        let (m, h2) = (prm.mass, h * h);
+        let (m, h2) = (params.mass, h * h);
         // g(r^2) with grad_i W_ij = g r_ij, and dg/d(r^2) by a central
         // difference of the kernel's (dW/dq)/q in q^2.
         let g = |q2: f64| K::w_dw_over_q_lanes(q2).1 / (h2 * h2);
@@ -320,10 +320,10 @@ mod tests {
                 }
             }
         }
-        let slope = prm.b_eos / prm.rho0;
+        let slope = params.b_eos / params.rho0;
         let p: Vec<f64> = rho
             .iter()
-            .map(|r| prm.b_eos * (r / prm.rho0 - 1.0))
+            .map(|r| params.b_eos * (r / params.rho0 - 1.0))
             .collect();
         let mut a = DMatrix::zeros(2 * n, 2 * n);
         for i in 0..n {

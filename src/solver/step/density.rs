@@ -101,14 +101,14 @@ pub(super) fn pair_gather(sources: &[u32], run: (usize, usize), pair_w: &[f64]) 
 /// slots, each taken from where it was evaluated. The (dW/dq)/q of every
 /// pair is kept for [`super::forces::forces`] in both window lanes that
 /// list it.
-pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
-    kernel_pass::<K>(s, list, prm);
-    density_sums::<K>(s, list, prm)
+pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) -> f64 {
+    kernel_pass::<K>(s, list, params);
+    density_sums::<K>(s, list, params)
 }
 
 /// The first half of [`density`], timed apart by the solver: W of every
 /// own pair into the pair table, its (dW/dq)/q into the window-lane table.
-pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) {
+pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) {
     let isa = Isa::detect();
     // The pair table and after it a place kept at zero that padding reads:
     // resized when a rebuild changed the number of own pairs.
@@ -120,13 +120,13 @@ pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &
     }
     // The window-lane table, zeroed for each new list: a lane not listed is
     // never written and stays 0.
-    if s.lane_g_of != list.generation() {
+    if s.lane_generation != list.generation() {
         s.lane_g.clear();
         s.lane_g.resize(list.window_count() * LANES, 0.0);
-        s.lane_g_of = list.generation();
+        s.lane_generation = list.generation();
     }
     let n = s.x.len();
-    let inp = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, prm);
+    let input = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, params);
     let (entries, owners) = list.own_stream();
     let lane_g = as_atomic(&mut s.lane_g);
     let lanes = list.lanes_of_pairs();
@@ -137,7 +137,7 @@ pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &
         lanes.par_chunks(2 * STREAM_CHUNK),
     )
         .into_par_iter()
-        .for_each(|(w, e, o, l)| kernel_chunk_on::<K>(isa, (w, lane_g), e, o, l, &inp));
+        .for_each(|(w, e, o, l)| kernel_chunk_on::<K>(isa, (w, lane_g), e, o, l, &input));
 }
 
 /// `v` as atomics, which tasks running at once may store into (each of the
@@ -160,7 +160,7 @@ fn as_atomic(v: &mut [f64]) -> &[AtomicU64] {
 
 /// The second half of [`density`]: the sums of W from the pair table and
 /// the EOS; the largest fluid compaction.
-pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, prm: &Params) -> f64 {
+pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) -> f64 {
     let isa = Isa::detect();
     let n = s.x.len();
     assert_eq!(
@@ -168,7 +168,7 @@ pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, prm: 
         list.own_pairs(),
         "the kernel pass ran on this list"
     );
-    let inp = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, prm);
+    let input = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, params);
     let pair_w = &s.pair_w[..];
     (
         s.rho.par_chunks_mut(CHUNK),
@@ -178,7 +178,7 @@ pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, prm: 
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, out)| density_chunk_on::<K>(isa, c, out, &inp, pair_w))
+        .map(|(c, out)| density_chunk_on::<K>(isa, c, out, &input, pair_w))
         .reduce(|| f64::NEG_INFINITY, f64::max)
 }
 
@@ -188,7 +188,7 @@ pub(super) struct DensityIn<'a> {
     y: &'a [f64],
     list: &'a NeighbourList,
     width: f64,
-    prm: &'a Params,
+    params: &'a Params,
     nf: usize,
 }
 
@@ -198,14 +198,14 @@ impl<'a> DensityIn<'a> {
         xs: (&'a [f64], &'a [f64]),
         nf: usize,
         list: &'a NeighbourList,
-        prm: &'a Params,
+        params: &'a Params,
     ) -> DensityIn<'a> {
         DensityIn {
             x: xs.0,
             y: xs.1,
             list,
             width: list.width(),
-            prm,
+            params,
             nf,
         }
     }
@@ -229,7 +229,7 @@ pub(super) fn kernel_chunk<K: Kernel>(
     entries: &[u32],
     owners: &[u32],
     lane_of: &[u32],
-    inp: &DensityIn,
+    input: &DensityIn,
 ) {
     let (w_out, lane_g) = out;
     assert!(lane_of.len() == 2 * entries.len() && !lane_g.is_empty());
@@ -248,9 +248,9 @@ pub(super) fn kernel_chunk<K: Kernel>(
         pair_kernel::<K>(
             e,
             o,
-            (inp.x, inp.y),
-            inp.width,
-            inp.prm.inv_h2,
+            (input.x, input.y),
+            input.width,
+            input.params.inv_h2,
             (w, &mut g[..m]),
             scratch,
         );
@@ -275,48 +275,48 @@ pub(super) type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &
 pub(super) fn density_chunk<K: Kernel>(
     c: usize,
     out: DensityOut,
-    inp: &DensityIn,
+    input: &DensityIn,
     pair_w: &[f64],
 ) -> f64 {
     let (rho, press, vol, p_rho2) = out;
-    let prm = inp.prm;
+    let params = input.params;
     let w_self = K::w(0.0);
     let base = c * CHUNK;
     let m = rho.len();
     assert!(press.len() == m && vol.len() == m && p_rho2.len() == m);
     for (k, r) in rho.iter_mut().enumerate() {
         let i = base + k;
-        let run = (inp.list.own_start(i), inp.list.own(i) / LANES);
-        let pairs = pair_gather(inp.list.sources_padded(i), run, pair_w);
+        let run = (input.list.own_start(i), input.list.own(i) / LANES);
+        let pairs = pair_gather(input.list.sources_padded(i), run, pair_w);
         let sum = w_self + pairs;
-        *r = prm.mass_over_h2 * sum;
+        *r = params.mass_over_h2 * sum;
     }
-    if prm.gamma == 1.0 {
-        eos(prm, rho, (press, vol, p_rho2), |ratio| ratio - 1.0);
+    if params.gamma == 1.0 {
+        eos(params, rho, (press, vol, p_rho2), |ratio| ratio - 1.0);
     } else {
-        eos(prm, rho, (press, vol, p_rho2), |ratio| {
-            ratio.powf(prm.gamma) - 1.0
+        eos(params, rho, (press, vol, p_rho2), |ratio| {
+            ratio.powf(params.gamma) - 1.0
         });
     }
-    let fluid = inp.nf.saturating_sub(base).min(m);
+    let fluid = input.nf.saturating_sub(base).min(m);
     rho[..fluid]
         .iter()
-        .fold(f64::NEG_INFINITY, |e, &r| e.max(r / prm.rho0 - 1.0))
+        .fold(f64::NEG_INFINITY, |e, &r| e.max(r / params.rho0 - 1.0))
 }
 
 /// The EOS (13) over a task's densities: P, m/rho and P/rho^2, with the
 /// compression (rho/rho0)^gamma minus 1 from `compression`.
 #[inline(always)]
 fn eos(
-    prm: &Params,
+    params: &Params,
     rho: &[f64],
     (press, vol, p_rho2): (&mut [f64], &mut [f64], &mut [f64]),
     compression: impl Fn(f64) -> f64,
 ) {
     for (((&r, p_out), v), q) in rho.iter().zip(press).zip(vol).zip(p_rho2) {
-        let p = prm.pressure_of(compression(r / prm.rho0));
+        let p = params.pressure_of(compression(r / params.rho0));
         *p_out = p;
-        *v = prm.mass / r;
+        *v = params.mass / r;
         *q = p / (r * r);
     }
 }
@@ -328,7 +328,7 @@ on_isa! {
         entries: &[u32],
         owners: &[u32],
         lane_of: &[u32],
-        inp: &DensityIn
+        input: &DensityIn
     )
 }
 
@@ -337,7 +337,7 @@ on_isa! {
     pub(super) fn density_chunk_on[K: Kernel] => density_chunk[K](
         c: usize,
         out: DensityOut,
-        inp: &DensityIn,
+        input: &DensityIn,
         pair_w: &[f64]
     ) -> f64
 }
@@ -439,7 +439,7 @@ mod tests {
             .map(|k| (k * 37 + 5) % (2 * m as u32))
             .collect();
         // Only inv_h2 matters to the kernel pass.
-        let prm = Params {
+        let params = Params {
             inv_h2: 0.5,
             mass_over_h2: 1.0,
             mass: 1.0,
@@ -458,12 +458,12 @@ mod tests {
             beta_max: 1.0,
         };
         let list = NeighbourList::default();
-        let inp = DensityIn {
+        let input = DensityIn {
             x: &x,
             y: &y,
             list: &list,
             width: 4.0,
-            prm: &prm,
+            params: &params,
             nf: n,
         };
         let isas = every_isa();
@@ -485,7 +485,7 @@ mod tests {
                 &entries,
                 &owners,
                 &lane_of,
-                &inp,
+                &input,
             );
             let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&w), bits(&w_want), "{isa:?}");

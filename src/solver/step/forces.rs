@@ -77,14 +77,14 @@ pub(super) struct ForceArgs<'a> {
     /// Velocities (vx, vy) predicted at the step's end.
     pub vs: (&'a [f64], &'a [f64]),
     /// P (paper form) or P/rho^2 (symmetric).
-    pub pq: &'a [f64],
+    pub pressure_term: &'a [f64],
     /// m/rho.
     pub vol: &'a [f64],
     /// Wall depth (mirrored walls only).
     pub depth: &'a [f64],
     /// The strip's width, for the images' offsets.
     pub width: f64,
-    pub sc: Scales,
+    pub scales: Scales,
 }
 
 /// LANES consecutive values from `start`: one contiguous load.
@@ -111,27 +111,27 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
         lane_g,
         xs,
         vs,
-        pq,
+        pressure_term,
         vol,
         depth,
         width,
-        sc,
+        scales,
     } = args;
     let (x, y) = xs;
-    let (vpx, vpy) = vs;
+    let (v_pred_x, v_pred_y) = vs;
     let n = x.len();
-    assert!(n > i && y.len() == n && vpx.len() == n && vpy.len() == n);
-    assert!(pq.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
+    assert!(n > i && y.len() == n && v_pred_x.len() == n && v_pred_y.len() == n);
+    assert!(pressure_term.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
     assert!(lane_g.len() == windows.len() * LANES);
-    let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], vpx[i], vpy[i], pq[i]);
-    let beta_cap = sc.beta_max - 1.0;
+    let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], v_pred_x[i], v_pred_y[i], pressure_term[i]);
+    let beta_cap = scales.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
     for (win, g) in windows.iter().zip(lane_g.chunks_exact(LANES)) {
         let start = win.start as usize;
         let (xw, yw) = (lanes(x, start), lanes(y, start));
-        let (vxw, vyw) = (lanes(vpx, start), lanes(vpy, start));
-        let (pqw, volw) = (lanes(pq, start), lanes(vol, start));
+        let (vxw, vyw) = (lanes(v_pred_x, start), lanes(v_pred_y, start));
+        let (pqw, volw) = (lanes(pressure_term, start), lanes(vol, start));
         let depthw = if MIRROR { lanes(depth, start) } else { xw };
         let g: &[f64; LANES] = g.try_into().expect("whole windows");
         // A window whose every lane has g = 0 (its pairs out of the
@@ -152,9 +152,9 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
             // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
             let dx = xi - xw[l] + offset;
             let dy = yi - yw[l];
-            let p = sc.pressure * (pqi + pqw[l]);
+            let p = scales.pressure * (pqi + pqw[l]);
             let (dvx, dvy) = (vxi - vxw[l], vyi - vyw[l]);
-            let mut lv = sc.visc * volw[l];
+            let mut lv = scales.visc * volw[l];
             if MIRROR {
                 // A wall particle at depth D beyond the no-slip plane shows
                 // fluid particle i, at distance g from it, the velocity
@@ -162,7 +162,7 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
                 // A select, not f64::min: the cap is not NaN (beta_max >=
                 // 1), and min's care for a NaN cap costs two instructions a
                 // lane. The same value for every ratio, NaN included.
-                let ratio = depthw[l] * sc.inv_gap;
+                let ratio = depthw[l] * scales.inv_gap;
                 lv *= 1.0 + if ratio < beta_cap { ratio } else { beta_cap };
             }
             let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
@@ -173,7 +173,7 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
                 // r^2 > 0 for every listed pair; the floor keeps the term
                 // 0, not NaN, in a lane that is not listed and holds i
                 // itself (g = 0 there).
-                let a = sc.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
+                let a = scales.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
                 fx += a * dx;
                 fy += a * dy;
             }
@@ -199,7 +199,7 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
 ///   velocity -(D_j / g_i) v_i, so v_i - v_j = beta v_i with
 ///   beta = min(1 + D_j / g_i, beta_max) ([`Params::beta_max`]);
 /// - the body force p along +x.
-pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt: f64) -> Forces {
+pub(crate) fn forces(s: &mut State, list: &NeighbourList, params: &Params, half_dt: f64) -> Forces {
     let isa = Isa::detect();
     // The pressure form, the artificial viscosity and the walls' factor as
     // constants of the pair loop: each combination compiles to its own loop.
@@ -209,7 +209,7 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt:
     // loop without both terms in scalar code (its cost model, it seems,
     // finds too little work a lane to pay for the gather of (dW/dq)/q):
     // 1.6x the whole run on one thread (measured with `shearsph bench`).
-    let f = match (prm.symmetric, prm.has_av, prm.mirror_walls) {
+    let f = match (params.symmetric, params.has_av, params.mirror_walls) {
         (true, true, true) => forces_with::<true, true, true>,
         (true, true, false) => forces_with::<true, true, false>,
         (true, false, _) => forces_with::<true, false, true>,
@@ -217,43 +217,43 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, prm: &Params, half_dt:
         (false, true, false) => forces_with::<false, true, false>,
         (false, false, _) => forces_with::<false, false, true>,
     };
-    f(s, list, prm, half_dt, isa)
+    f(s, list, params, half_dt, isa)
 }
 
 pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     s: &mut State,
     list: &NeighbourList,
-    prm: &Params,
+    params: &Params,
     half_dt: f64,
     isa: Isa,
 ) -> Forces {
     assert_eq!(
-        s.lane_g_of,
+        s.lane_generation,
         list.generation(),
         "the kernel pass ran on this list"
     );
     let nf = s.n_fluid;
     let n = s.x.len();
-    let (x, y, vpx, vpy) = (&s.x[..n], &s.y[..n], &s.vpx[..n], &s.vpy[..n]);
+    let (x, y, v_pred_x, v_pred_y) = (&s.x[..n], &s.y[..n], &s.v_pred_x[..n], &s.v_pred_y[..n]);
     let (rho, vol, depth) = (&s.rho[..n], &s.vol[..n], &s.depth[..n]);
-    let pq = if SYMMETRIC {
+    let pressure_term = if SYMMETRIC {
         &s.p_rho2[..n]
     } else {
         &s.press[..n]
     };
-    let inp = ForcesIn {
+    let input = ForcesIn {
         x,
         y,
-        vpx,
-        vpy,
+        v_pred_x,
+        v_pred_y,
         rho,
         vol,
         depth,
-        pq,
+        pressure_term,
         lane_g: &s.lane_g,
         list,
         width: list.width(),
-        prm,
+        params,
         half_dt,
     };
     (
@@ -264,7 +264,7 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR>(isa, c, out, &inp))
+        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR>(isa, c, out, &input))
         .reduce(|| Forces::NONE, Forces::merge)
 }
 
@@ -272,18 +272,18 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
 pub(super) struct ForcesIn<'a> {
     x: &'a [f64],
     y: &'a [f64],
-    vpx: &'a [f64],
-    vpy: &'a [f64],
+    v_pred_x: &'a [f64],
+    v_pred_y: &'a [f64],
     rho: &'a [f64],
     vol: &'a [f64],
     depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
-    pq: &'a [f64],
+    pressure_term: &'a [f64],
     /// (dW/dq)/q of every window lane.
     lane_g: &'a [f64],
     list: &'a NeighbourList,
     width: f64,
-    prm: &'a Params,
+    params: &'a Params,
     half_dt: f64,
 }
 
@@ -299,65 +299,65 @@ pub(super) type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'
 pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
     c: usize,
     out: ForcesOut,
-    inp: &ForcesIn,
+    input: &ForcesIn,
 ) -> Forces {
     let (ax, ay, vx, vy) = out;
-    let prm = inp.prm;
+    let params = input.params;
     let base = c * CHUNK;
     let m = ax.len();
     assert!(m <= CHUNK && ay.len() == m && vx.len() == m && vy.len() == m);
-    let (rho, y) = (&inp.rho[base..base + m], &inp.y[base..base + m]);
+    let (rho, y) = (&input.rho[base..base + m], &input.y[base..base + m]);
     let mut inv_rho = [0.0; CHUNK];
     let mut inv_gap = [0.0; CHUNK];
     // 0 when the walls are not mirrored: beta = 1 + min(D x 0, cap) = 1,
     // exactly, in a loop with the factor ([`forces`]).
-    let gap_scale = if prm.mirror_walls { 1.0 } else { 0.0 };
+    let gap_scale = if params.mirror_walls { 1.0 } else { 0.0 };
     for k in 0..m {
         inv_rho[k] = 1.0 / rho[k];
         // Capped by beta_max anyway: a particle at the plane is no
         // division by zero.
-        inv_gap[k] = gap_scale / (prm.b - y[k].abs()).max(f64::MIN_POSITIVE);
+        inv_gap[k] = gap_scale / (params.b - y[k].abs()).max(f64::MIN_POSITIVE);
     }
     let mut sum_x = [0.0; CHUNK];
     let mut sum_y = [0.0; CHUNK];
     for k in 0..m {
         let i = base + k;
-        let sc = Scales {
+        let scales = Scales {
             pressure: if SYMMETRIC {
-                prm.mass
+                params.mass
             } else {
-                prm.mass * inv_rho[k] * inv_rho[k]
+                params.mass * inv_rho[k] * inv_rho[k]
             },
-            av: prm.av * inv_rho[k],
-            visc: prm.visc * inv_rho[k],
+            av: params.av * inv_rho[k],
+            visc: params.visc * inv_rho[k],
             inv_gap: inv_gap[k],
-            beta_max: prm.beta_max,
+            beta_max: params.beta_max,
         };
-        let windows = inp.list.windows(i);
-        let first = inp.list.window_start(i) * LANES;
+        let windows = input.list.windows(i);
+        let first = input.list.window_start(i) * LANES;
         let args = ForceArgs {
             i,
             windows,
-            lane_g: &inp.lane_g[first..first + windows.len() * LANES],
-            xs: (inp.x, inp.y),
-            vs: (inp.vpx, inp.vpy),
-            pq: inp.pq,
-            vol: inp.vol,
-            depth: inp.depth,
-            width: inp.width,
-            sc,
+            lane_g: &input.lane_g[first..first + windows.len() * LANES],
+            xs: (input.x, input.y),
+            vs: (input.v_pred_x, input.v_pred_y),
+            pressure_term: input.pressure_term,
+            vol: input.vol,
+            depth: input.depth,
+            width: input.width,
+            scales,
         };
         (sum_x[k], sum_y[k]) = pair_forces::<AV, MIRROR>(args);
     }
     let mut seen = Forces::NONE;
     let (mut a2_max, mut v2_max, mut all) = (0.0f64, 0.0f64, 0.0);
     for k in 0..m {
-        let axi = prm.grad_scale * sum_x[k] + prm.body;
-        let ayi = prm.grad_scale * sum_y[k];
+        let axi = params.grad_scale * sum_x[k] + params.body;
+        let ayi = params.grad_scale * sum_y[k];
         ax[k] = axi;
         ay[k] = ayi;
-        vx[k] += inp.half_dt * axi;
-        vy[k] += inp.half_dt * ayi;
+        vx[k] += input.half_dt * axi;
+        vy[k] += input.half_dt * ayi;
         let a2 = axi * axi + ayi * ayi;
         let v2 = vx[k] * vx[k] + vy[k] * vy[k];
         // 0 x (a2 + v2) is 0 for every finite sum, NaN otherwise: one
@@ -375,7 +375,7 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
 on_isa! {
     /// [`forces_chunk`] compiled for the instruction set `isa`.
     pub(super) fn forces_chunk_on[const SYMMETRIC: bool, const AV: bool, const MIRROR: bool]
-        => forces_chunk[SYMMETRIC, AV, MIRROR](c: usize, out: ForcesOut, inp: &ForcesIn) -> Forces
+        => forces_chunk[SYMMETRIC, AV, MIRROR](c: usize, out: ForcesOut, input: &ForcesIn) -> Forces
 }
 
 on_isa! {
@@ -449,23 +449,23 @@ mod tests {
 
         /// Particle 0's force inputs with the lanes' (dW/dq)/q `lane_g`,
         /// its y as the walls' depths (>= 0).
-        fn args<'a>(&'a self, lane_g: &'a [f64], sc: Scales) -> ForceArgs<'a> {
+        fn args<'a>(&'a self, lane_g: &'a [f64], scales: Scales) -> ForceArgs<'a> {
             ForceArgs {
                 i: 0,
                 windows: &self.windows[..],
                 lane_g,
                 xs: (&self.x[..], &self.y[..]),
                 vs: (&self.v[..], &self.v[..]),
-                pq: &self.v[..],
+                pressure_term: &self.v[..],
                 vol: &self.x[..],
                 depth: &self.y[..],
                 width: self.width,
-                sc,
+                scales,
             }
         }
     }
 
-    fn scales(inv_gap: f64, beta_max: f64) -> Scales {
+    fn test_scales(inv_gap: f64, beta_max: f64) -> Scales {
         Scales {
             pressure: 0.7,
             av: 0.3,
@@ -502,7 +502,7 @@ mod tests {
             pair_kernel_on::<Morris>(isa, &entries, &owners, xs, f.width, 0.5, out, scratch);
             let w_sum = pair_gather_on(isa, &sources, (0, 0), &w);
             let lane_g = f.lane_g(&pg);
-            let force = pair_forces_on::<true, true>(isa, f.args(&lane_g, scales(0.9, 3.0)));
+            let force = pair_forces_on::<true, true>(isa, f.args(&lane_g, test_scales(0.9, 3.0)));
             let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
             bits.extend([w_sum.to_bits(), force.0.to_bits(), force.1.to_bits()]);
             bits
@@ -545,11 +545,11 @@ mod tests {
         let (with_zero, with_live) = (with([0.0; LANES]), with(one));
         let isas = every_isa();
         for isa in isas {
-            let sc = scales(0.9, 3.0);
+            let scales = test_scales(0.9, 3.0);
             let run = |(windows, lane_g): (&[Window], &[f64])| {
                 let args = ForceArgs {
                     windows,
-                    ..f.args(lane_g, sc)
+                    ..f.args(lane_g, scales)
                 };
                 [
                     bits(pair_forces_on::<false, false>(isa, args)),
@@ -580,12 +580,12 @@ mod tests {
         for isa in isas {
             for beta_max in [1.0, 3.0] {
                 let without =
-                    pair_forces_on::<false, false>(isa, f.args(&lg, scales(0.9, beta_max)));
+                    pair_forces_on::<false, false>(isa, f.args(&lg, test_scales(0.9, beta_max)));
                 let at_zero =
-                    pair_forces_on::<false, true>(isa, f.args(&lg, scales(0.0, beta_max)));
+                    pair_forces_on::<false, true>(isa, f.args(&lg, test_scales(0.0, beta_max)));
                 assert_eq!(bits(at_zero), bits(without), "{isa:?}, beta_max {beta_max}");
                 let mirrored =
-                    pair_forces_on::<false, true>(isa, f.args(&lg, scales(0.9, beta_max)));
+                    pair_forces_on::<false, true>(isa, f.args(&lg, test_scales(0.9, beta_max)));
                 assert_eq!(
                     bits(mirrored) == bits(without),
                     beta_max == 1.0,

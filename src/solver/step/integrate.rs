@@ -32,8 +32,8 @@ pub(crate) fn kick_drift(
             s.y[..nf].par_chunks_mut(span),
             s.vx[..nf].par_chunks_mut(span),
             s.vy[..nf].par_chunks_mut(span),
-            s.vpx[..nf].par_chunks_mut(span),
-            s.vpy[..nf].par_chunks_mut(span),
+            s.v_pred_x[..nf].par_chunks_mut(span),
+            s.v_pred_y[..nf].par_chunks_mut(span),
         ),
         (
             s.ax.par_chunks(span),
@@ -44,8 +44,8 @@ pub(crate) fn kick_drift(
         motion.par_chunks_mut(blocks_per_task),
     )
         .into_par_iter()
-        .for_each(|(out, inp, motion)| {
-            kick_drift_task_on(isa, (half, dt), block, out, inp, motion)
+        .for_each(|(out, input, motion)| {
+            kick_drift_task_on(isa, (half, dt), block, out, input, motion)
         });
 }
 
@@ -69,7 +69,7 @@ type Fixed<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64]);
 fn kick_drift_task(
     (half, dt): (f64, f64),
     block: usize,
-    (x, y, vx, vy, vpx, vpy): Moving,
+    (x, y, vx, vy, v_pred_x, v_pred_y): Moving,
     (ax, ay, x0, y0): Fixed,
     motion: &mut [(Displacements, f64)],
 ) {
@@ -81,7 +81,7 @@ fn kick_drift_task(
             &mut vx[r.clone()],
             &mut vy[r.clone()],
         );
-        let (vpx, vpy) = (&mut vpx[r.clone()], &mut vpy[r.clone()]);
+        let (v_pred_x, v_pred_y) = (&mut v_pred_x[r.clone()], &mut v_pred_y[r.clone()]);
         let (ax, ay, x0, y0) = (&ax[r.clone()], &ay[r.clone()], &x0[r.clone()], &y0[r]);
         let mut d = Displacements::EMPTY;
         let mut max_abs_y = 0.0f64;
@@ -90,8 +90,8 @@ fn kick_drift_task(
             vy[k] += half * ay[k];
             x[k] += dt * vx[k];
             y[k] += dt * vy[k];
-            vpx[k] = vx[k] + half * ax[k];
-            vpy[k] = vy[k] + half * ay[k];
+            v_pred_x[k] = vx[k] + half * ax[k];
+            v_pred_y[k] = vy[k] + half * ay[k];
             d.add(x[k] - x0[k], y[k] - y0[k]);
             // NaN compares false: make it count as out of the channel.
             let ya = y[k].abs();
@@ -111,7 +111,7 @@ on_isa! {
         steps: (f64, f64),
         block: usize,
         out: Moving,
-        inp: Fixed,
+        input: Fixed,
         motion: &mut [(Displacements, f64)]
     )
 }

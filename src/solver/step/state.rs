@@ -14,8 +14,8 @@ pub(crate) struct State {
     pub vy: Vec<f64>,
     /// The velocity the forces see, v(t) + dt a(t), a prediction of
     /// v(t + dt) (viscosity and artificial viscosity depend on it).
-    pub vpx: Vec<f64>,
-    pub vpy: Vec<f64>,
+    pub v_pred_x: Vec<f64>,
+    pub v_pred_y: Vec<f64>,
     /// Acceleration of the fluid particles.
     pub ax: Vec<f64>,
     pub ay: Vec<f64>,
@@ -44,10 +44,10 @@ pub(crate) struct State {
     /// window lanes that list it, LANES per
     /// [`crate::solver::neighbours::Window`] in the list's order
     /// ([`NeighbourList::lanes_of_pairs`]), 0 in a lane not listed; for
-    /// the list build `lane_g_of` ([`NeighbourList::generation`]). The
+    /// the list build `lane_generation` ([`NeighbourList::generation`]). The
     /// force pass has no distance test and no kernel.
     pub lane_g: Vec<f64>,
-    pub lane_g_of: u64,
+    pub lane_generation: u64,
 }
 
 impl State {
@@ -84,10 +84,10 @@ impl State {
         State {
             n_fluid,
             depth,
-            vpx: vx.clone(),
+            v_pred_x: vx.clone(),
             vx,
             vy: vec![0.0; n],
-            vpy: vec![0.0; n],
+            v_pred_y: vec![0.0; n],
             ax: vec![0.0; n_fluid],
             ay: vec![0.0; n_fluid],
             rho: vec![problem.rho0; n],
@@ -102,7 +102,7 @@ impl State {
             pair_slots: usize::MAX,
             pair_w: Vec::new(),
             lane_g: Vec::new(),
-            lane_g_of: u64::MAX,
+            lane_generation: u64::MAX,
         }
     }
 
@@ -113,8 +113,8 @@ impl State {
             &self.y,
             &self.vx,
             &self.vy,
-            &self.vpx,
-            &self.vpy,
+            &self.v_pred_x,
+            &self.v_pred_y,
             &self.ax,
             &self.ay,
             &self.rho,
