@@ -22,16 +22,21 @@ use crate::config::Scene;
 
 /// The scene: the built-in one, overridden by `--scene FILE`, then by these
 /// flags.
-#[derive(Debug, Clone, Default, Args)]
+/// Every field but `scene` is a scene field of the same name (`n` is
+/// `n_layers`): [`SceneArgs::overrides`] serialises them, a flag not given
+/// (None) left out.
+#[derive(Debug, Clone, Default, Args, serde::Serialize)]
 pub struct SceneArgs {
     /// Scene file (TOML); its fields override the built-in scene's.
     #[arg(long, value_name = "FILE")]
+    #[serde(skip)]
     pub scene: Option<PathBuf>,
     /// Kernel name (see `shearsph kernels`).
     #[arg(long)]
     pub kernel: Option<String>,
     /// N: fluid layers in the half-width (B = N dy).
     #[arg(long, value_name = "N")]
+    #[serde(rename = "n_layers")]
     pub n: Option<u32>,
     /// Reynolds number U B / nu (replaces --p).
     #[arg(long, conflicts_with = "p")]
@@ -93,6 +98,7 @@ pub struct SceneArgs {
     pub gamma: Option<f64>,
     /// Keep negative pressures instead of clipping them to zero.
     #[arg(long)]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub allow_negative_pressure: bool,
     /// Pressure acceleration: `paper` (12) or `symmetric`.
     #[arg(long)]
@@ -137,63 +143,10 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
-    /// The flags as scene fields, to lay over the scene file.
+    /// The flags as scene fields, to lay over the scene file: every flag
+    /// given, by its scene field's name.
     pub fn overrides(&self) -> toml::Table {
-        use toml::Value;
-        let mut t = toml::Table::new();
-        let mut put = |key: &str, v: Option<Value>| {
-            if let Some(v) = v {
-                t.insert(key.to_string(), v);
-            }
-        };
-        put("kernel", self.kernel.clone().map(Value::String));
-        put("n_layers", self.n.map(|n| Value::Integer(n.into())));
-        put("re", self.re.map(Value::Float));
-        put("p", self.p.map(Value::Float));
-        put("u", self.u.map(Value::Float));
-        put("d", self.d.map(Value::Float));
-        put("columns", self.columns.map(|c| Value::Integer(c.into())));
-        put("lattice", self.lattice.clone().map(Value::String));
-        put("h_over_d", self.h_over_d.map(Value::Float));
-        put("rho0", self.rho0.map(Value::Float));
-        put("alpha", self.alpha.map(Value::Float));
-        put("c0", self.c0.clone().map(Value::String));
-        put("initial", self.initial.clone().map(Value::String));
-        put("t_end", self.t_end.map(Value::Float));
-        put("decay_tol", self.decay_tol.map(Value::Float));
-        put("horizon", self.horizon.clone().map(Value::String));
-        put("horizon_span", self.horizon_span.map(Value::Float));
-        put("output_interval", self.output_interval.map(Value::Float));
-        put("gamma", self.gamma.map(Value::Float));
-        put(
-            "allow_negative_pressure",
-            self.allow_negative_pressure.then_some(Value::Boolean(true)),
-        );
-        put(
-            "pressure_form",
-            self.pressure_form.clone().map(Value::String),
-        );
-        put(
-            "wall_velocity",
-            self.wall_velocity.clone().map(Value::String),
-        );
-        put(
-            "viscous_normalisation",
-            self.viscous_normalisation.clone().map(Value::String),
-        );
-        put("eps_limit", self.eps_limit.map(Value::Float));
-        put("jitter", self.jitter.map(Value::Float));
-        put(
-            "jitter_seed",
-            self.jitter_seed.map(|s| Value::Integer(s.into())),
-        );
-        put("linf_bound", self.linf_bound.map(Value::Float));
-        put("eps_margin", self.eps_margin.map(Value::Float));
-        put("skin", self.skin.map(Value::Float));
-        put("cfl", self.cfl.map(Value::Float));
-        put("viscous_dt", self.viscous_dt.map(Value::Float));
-        put("max_run_s", self.max_run_s.map(Value::Float));
-        t
+        toml::Table::try_from(self).expect("scene flags are numbers, strings and booleans")
     }
 
     pub fn load(&self) -> Result<Scene> {
@@ -253,5 +206,100 @@ pub fn report(result: Result<ExitCode>) -> ExitCode {
             }
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::SceneArgs;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        scene: SceneArgs,
+    }
+
+    /// Every scene flag given lands in the scene field of its name (the
+    /// scene refuses unknown fields), and a flag not given is left out, so a
+    /// scene file's value stands (`allow_negative_pressure` false included).
+    #[test]
+    fn every_scene_flag_is_the_scene_field_of_its_name() {
+        let all = Cli::parse_from([
+            "x",
+            "--kernel",
+            "wendland_c2",
+            "--n",
+            "8",
+            "--re",
+            "3",
+            "--u",
+            "2",
+            "--columns",
+            "9",
+            "--d",
+            "0.5",
+            "--lattice",
+            "square",
+            "--h-over-d",
+            "13/10",
+            "--rho0",
+            "2",
+            "--alpha",
+            "0.05",
+            "--c0",
+            "2*rule10",
+            "--initial",
+            "steady",
+            "--t-end",
+            "3",
+            "--decay-tol",
+            "0.02",
+            "--horizon",
+            "fixed",
+            "--horizon-span",
+            "16",
+            "--output-interval",
+            "0.5",
+            "--gamma",
+            "7",
+            "--allow-negative-pressure",
+            "--pressure-form",
+            "symmetric",
+            "--wall-velocity",
+            "mirrored",
+            "--viscous-normalisation",
+            "lattice",
+            "--eps-limit",
+            "0.3",
+            "--jitter",
+            "0.01",
+            "--jitter-seed",
+            "4",
+            "--linf-bound",
+            "0.1",
+            "--eps-margin",
+            "0.02",
+            "--skin",
+            "0.4",
+            "--cfl",
+            "0.4",
+            "--viscous-dt",
+            "0.1",
+            "--max-run-s",
+            "60",
+        ])
+        .scene;
+        let t = all.overrides();
+        // Every flag but `--p`, which `--re` replaces.
+        assert_eq!(t.len(), 31, "{t:?}");
+        assert_eq!(t["n_layers"].as_integer(), Some(8));
+        assert_eq!(t["allow_negative_pressure"].as_bool(), Some(true));
+        let s = all.load().expect("every flag a known scene field");
+        assert_eq!((s.n_layers, s.re, s.jitter_seed), (8, Some(3.0), 4));
+        assert!(s.allow_negative_pressure);
+        let none = Cli::parse_from(["x"]).scene.overrides();
+        assert!(none.is_empty(), "{none:?}");
     }
 }
