@@ -91,105 +91,70 @@ impl Appender {
     }
 }
 
-/// CSV column names, in the order of [`csv_fields`].
-pub const CSV_COLUMNS: &[&str] = &[
-    "index",
-    "id",
-    "kernel",
-    "n",
-    "re",
-    "alpha",
-    "lattice",
-    "h_over_d",
-    "jitter",
-    "seed",
-    "c0_spec",
-    "c0_rule",
-    "c0",
-    "c0_over_u",
-    "class",
-    "failure_kind",
-    "failure_reason",
-    "linf",
-    "linf_max",
-    "l2",
-    "max_eps",
-    "eps_bound",
-    "rms_v",
-    "steps",
-    "dt_limit_dominant",
-    "dt",
-    "particles",
-    "particle_steps",
-    "t_end",
-    "t",
-    "wall_s",
-    "horizon",
-    "window_from",
-    "window_to",
-    "stationary",
-    "regime",
-    "eps_stat",
-    "eps_max_mean",
-    "linf_stat",
-    "rms_v_stat",
-    "dy_rms",
-    "t_disorder",
-];
+/// The CSV's columns: each one's name and its field of a row, in order.
+type Column = (&'static str, fn(&Row) -> String);
 
-fn csv_fields(r: &Row) -> Vec<String> {
-    let f = |v: f64| v.to_string();
-    vec![
-        r.index.to_string(),
-        r.id.clone(),
-        r.kernel.clone(),
-        r.n.to_string(),
-        f(r.re),
-        f(r.alpha),
-        r.lattice.name().to_string(),
-        r.h_over_d.to_string(),
-        f(r.jitter),
-        r.seed.to_string(),
-        r.c0_spec.clone(),
-        r.c0_rule.clone(),
-        f(r.c0),
-        f(r.c0_over_u),
-        r.class.to_string(),
+const COLUMNS: &[Column] = &[
+    ("index", |r| r.index.to_string()),
+    ("id", |r| r.id.clone()),
+    ("kernel", |r| r.kernel.clone()),
+    ("n", |r| r.n.to_string()),
+    ("re", |r| num(r.re)),
+    ("alpha", |r| num(r.alpha)),
+    ("lattice", |r| r.lattice.name().to_string()),
+    ("h_over_d", |r| r.h_over_d.to_string()),
+    ("jitter", |r| num(r.jitter)),
+    ("seed", |r| r.seed.to_string()),
+    ("c0_spec", |r| r.c0_spec.clone()),
+    ("c0_rule", |r| r.c0_rule.clone()),
+    ("c0", |r| num(r.c0)),
+    ("c0_over_u", |r| num(r.c0_over_u)),
+    ("class", |r| r.class.to_string()),
+    ("failure_kind", |r| {
         r.failure_kind
             .map(|k| k.name())
             .unwrap_or_default()
-            .to_string(),
-        r.failure_reason.clone().unwrap_or_default(),
-        f(r.linf),
-        f(r.linf_max),
-        f(r.l2),
-        f(r.max_eps),
-        f(r.eps_bound),
-        // relative to U, as the column always was
-        f(r.rms_v / r.u),
-        r.steps.to_string(),
+            .to_string()
+    }),
+    ("failure_reason", |r| {
+        r.failure_reason.clone().unwrap_or_default()
+    }),
+    ("linf", |r| num(r.linf)),
+    ("linf_max", |r| num(r.linf_max)),
+    ("l2", |r| num(r.l2)),
+    ("max_eps", |r| num(r.max_eps)),
+    ("eps_bound", |r| num(r.eps_bound)),
+    // relative to U, as the column always was
+    ("rms_v", |r| num(r.rms_v / r.u)),
+    ("steps", |r| r.steps.to_string()),
+    ("dt_limit_dominant", |r| {
         r.dt_limit_dominant
             .map(|l| l.name())
             .unwrap_or_default()
-            .to_string(),
-        f(r.dt),
-        r.particles.to_string(),
-        f(r.particle_steps),
-        f(r.t_end),
-        f(r.t),
-        f(r.wall_s),
-        r.horizon.to_string(),
-        f(r.window_from),
-        f(r.window_to),
-        r.stationary.to_string(),
-        r.regime.to_string(),
-        f(r.eps_stat),
-        f(r.eps_max_mean),
-        f(r.linf_stat),
-        f(r.rms_v_stat / r.u),
-        f(r.dy_rms),
-        r.t_disorder.map_or(String::new(), f),
-    ]
+            .to_string()
+    }),
+    ("dt", |r| num(r.dt)),
+    ("particles", |r| r.particles.to_string()),
+    ("particle_steps", |r| num(r.particle_steps)),
+    ("t_end", |r| num(r.t_end)),
+    ("t", |r| num(r.t)),
+    ("wall_s", |r| num(r.wall_s)),
+    ("horizon", |r| r.horizon.to_string()),
+    ("window_from", |r| num(r.window_from)),
+    ("window_to", |r| num(r.window_to)),
+    ("stationary", |r| r.stationary.to_string()),
+    ("regime", |r| r.regime.to_string()),
+    ("eps_stat", |r| num(r.eps_stat)),
+    ("eps_max_mean", |r| num(r.eps_max_mean)),
+    ("linf_stat", |r| num(r.linf_stat)),
+    ("rms_v_stat", |r| num(r.rms_v_stat / r.u)),
+    ("dy_rms", |r| num(r.dy_rms)),
+    ("t_disorder", |r| r.t_disorder.map_or(String::new(), num)),
+];
+
+/// A number as the CSV writes it (NaN as `NaN`).
+fn num(v: f64) -> String {
+    v.to_string()
 }
 
 /// One CSV field, quoted when it holds a comma, a quote or a line break.
@@ -203,10 +168,11 @@ pub fn csv_field(s: &str) -> String {
 
 /// The rows as CSV (header first; NaN written `NaN`).
 pub fn rows_csv(rows: &[Row]) -> String {
-    let mut out = CSV_COLUMNS.join(",");
+    let names: Vec<&str> = COLUMNS.iter().map(|c| c.0).collect();
+    let mut out = names.join(",");
     out.push('\n');
     for r in rows {
-        let line: Vec<String> = csv_fields(r).iter().map(|s| csv_field(s)).collect();
+        let line: Vec<String> = COLUMNS.iter().map(|c| csv_field(&c.1(r))).collect();
         let _ = writeln!(out, "{}", line.join(","));
     }
     out
