@@ -209,15 +209,34 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, params: &Params, half_
     // loop without both terms in scalar code (its cost model, it seems,
     // finds too little work a lane to pay for the gather of (dW/dq)/q):
     // 1.6x the whole run on one thread (measured with `shearsph bench`).
-    let f = match (params.symmetric, params.has_av, params.mirror_walls) {
-        (true, true, true) => forces_with::<true, true, true>,
-        (true, true, false) => forces_with::<true, true, false>,
-        (true, false, _) => forces_with::<true, false, true>,
-        (false, true, true) => forces_with::<false, true, true>,
-        (false, true, false) => forces_with::<false, true, false>,
-        (false, false, _) => forces_with::<false, false, true>,
+    let mirror = params.mirror_walls || !params.has_av;
+    let f = if params.symmetric {
+        with_av::<true>(params.has_av, mirror)
+    } else {
+        with_av::<false>(params.has_av, mirror)
     };
     f(s, list, params, half_dt, isa)
+}
+
+/// The force pass with its flags as constants.
+type ForcesFn = fn(&mut State, &NeighbourList, &Params, f64, Isa) -> Forces;
+
+/// The flags made constants one at a time, each level two arms: a new flag
+/// is one more level, not twice the table.
+fn with_av<const SYMMETRIC: bool>(av: bool, mirror: bool) -> ForcesFn {
+    if av {
+        with_mirror::<SYMMETRIC, true>(mirror)
+    } else {
+        with_mirror::<SYMMETRIC, false>(mirror)
+    }
+}
+
+fn with_mirror<const SYMMETRIC: bool, const AV: bool>(mirror: bool) -> ForcesFn {
+    if mirror {
+        forces_with::<SYMMETRIC, AV, true>
+    } else {
+        forces_with::<SYMMETRIC, AV, false>
+    }
 }
 
 pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
