@@ -162,6 +162,29 @@ fn bench_rejects_an_unknown_kernel() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("monaghan"));
 }
 
+/// `--empirical` answers fixed scenes: a flag that would choose other ones
+/// is refused before any run, named, and so is a repeat count out of range.
+#[test]
+fn bench_empirical_refuses_the_flags_it_does_not_take() {
+    for (flag, value) in [
+        ("--kernels", "monaghan"),
+        ("--particles", "1000"),
+        ("--steps", "10"),
+        ("--threads", "1"),
+    ] {
+        let o = shearsph(&["bench", "--empirical", flag, value, "--quiet"]);
+        assert!(!o.status.success(), "{flag}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(flag) && err.contains("--empirical"),
+            "{flag}: {err}"
+        );
+    }
+    let o = shearsph(&["bench", "--empirical", "--repeats", "0", "--quiet"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--repeats"));
+}
+
 #[test]
 fn pysph_matched_scene_is_matched() {
     let r = json(&shearsph(&[
