@@ -276,12 +276,27 @@ impl<'a> RunQueue<'a> {
                     st = self.changed.wait(st).unwrap_or_else(|e| e.into_inner());
                 }
             };
-            match self.make(&pool, run) {
-                Ok(r) => {
+            // A run that panics is the answer's error, not a worker gone
+            // with its run never done (the searches would wait on it).
+            let made =
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| self.make(&pool, run)));
+            match made {
+                Ok(Ok(r)) => {
                     self.lock().slots.insert(key(&run), Slot::Done(Box::new(r)));
                     self.bar.inc(1);
                 }
-                Err(e) => self.fail(format!("{e:#}")),
+                Ok(Err(e)) => self.fail(format!("{e:#}")),
+                Err(p) => {
+                    let why = p
+                        .downcast_ref::<&str>()
+                        .map(|s| s.to_string())
+                        .or_else(|| p.downcast_ref::<String>().cloned())
+                        .unwrap_or_else(|| "a panic".into());
+                    self.fail(format!(
+                        "the run at c0 = {} (seed {}) panicked: {why}",
+                        run.0, run.1 .1
+                    ));
+                }
             }
             self.changed.notify_all();
         }
