@@ -82,8 +82,8 @@ pub struct RunSweepArgs {
     /// Artificial viscosity coefficients.
     #[arg(long, value_delimiter = ',')]
     pub alpha: Vec<f64>,
-    /// Sound speeds as rules (derived, derived:MODEL, rule10, table2,
-    /// F*RULE) or numbers.
+    /// Sound speeds as rules ([F*]RULE, `shearsph run --help` lists every
+    /// rule) or numbers.
     #[arg(long, value_delimiter = ',')]
     pub c0: Vec<String>,
     /// Sound speeds as multiples of U.
