@@ -1,7 +1,7 @@
 //! The engine's runs, scheduled: every (c0, start) the answer needs goes
-//! into one queue, and a fixed set of workers (as many as the caller's
-//! rayon pool has threads) takes the most urgent first, each run on its own
-//! one-thread pool. The searches ask for their probes and wait; what does
+//! into one queue, and a fixed set of workers ([`RunQueue::workers`]: the
+//! caller's rayon pool's threads, and on several cores at least one per
+//! seed) takes the most urgent first, each run on its own one-thread pool. The searches ask for their probes and wait; what does
 //! not depend on them (every rule's c0) is queued at the start with the
 //! lowest priority, so it fills a core the searches leave idle (three seeds
 //! on two cores, a probe whose seeds stop at different checkpoints, the
