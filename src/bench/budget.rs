@@ -23,16 +23,7 @@ pub(super) fn steps_for(opts: &Options, particles: usize) -> u64 {
 pub fn estimated_seconds(opts: &Options) -> Result<f64> {
     let mut total = 0.0;
     for kernel in &opts.kernels {
-        let base = scene(kernel);
-        let info = base.kernel_info()?;
-        let h = base.h_over_d * base.d;
-        let neighbours = crate::problem::cost::listed_neighbours(
-            base.lattice,
-            base.d,
-            h,
-            info.support,
-            base.skin,
-        );
+        let neighbours = listed_of(&scene(kernel))?;
         for &target in &opts.particles {
             // The scene holds at least `target` particles: counted as that
             // (its few more change the estimate by a layer's worth).
@@ -105,17 +96,7 @@ pub fn check(opts: &Options) -> Result<()> {
 /// refused before the search for its N, with the estimate: a count the
 /// memory bound (or the lattice's u32 counts) cannot hold.
 pub(super) fn check_memory(scene: &Scene, target: usize) -> Result<()> {
-    let info = scene.kernel_info()?;
-    let h = scene.h_over_d * scene.d;
-    // Refused before the search, with the estimate: a count the memory
-    // bound (or the lattice's u32 counts) cannot hold.
-    let neighbours = crate::problem::cost::listed_neighbours(
-        scene.lattice,
-        scene.d,
-        h,
-        info.support,
-        scene.skin,
-    );
+    let neighbours = listed_of(scene)?;
     let bytes = crate::problem::cost::memory_bytes(target as f64, neighbours, 0.0, 0.0);
     let max = crate::problem::cost::MAX_RUN_BYTES;
     if !(bytes <= max && (target as f64) <= crate::problem::cost::MAX_PARTICLES) {
@@ -129,4 +110,16 @@ pub(super) fn check_memory(scene: &Scene, target: usize) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A bench scene's listed neighbours per particle (its lattice, h and skin).
+fn listed_of(scene: &Scene) -> Result<f64> {
+    let info = scene.kernel_info()?;
+    Ok(crate::problem::cost::listed_neighbours(
+        scene.lattice,
+        scene.d,
+        scene.h_over_d * scene.d,
+        info.support,
+        scene.skin,
+    ))
 }
