@@ -1,11 +1,18 @@
-"""shearsph's solver rebuilt in PySPH 1.0b2, equation by equation, on
-shearsph's `c0 --empirical` scene (Monaghan cubic spline, square lattice
-h = d, N layers, walls at rest, a jittered start), run to a given end time;
-prints, as one JSON line, the statistics shearsph judges a stationary window
-by (docs/stationary.md), computed the same way from PySPH's particles.
+"""shearsph's `c0 --empirical` scene (square lattice h = d, N layers, a
+jittered start) in PySPH 1.0b2, by one of two schemes, run to a given end
+time; prints, as one JSON line, the statistics shearsph judges a stationary
+window by (docs/stationary.md), computed the same way from PySPH's particles.
+
+- `--scheme matched` (default): shearsph's solver rebuilt equation by
+  equation (Monaghan cubic spline, walls at rest, below);
+- `--scheme tvf`: PySPH's own transport-velocity scheme as its stock example
+  `pysph.examples.poiseuille` sets it up (`pysph.sph.scheme.TVFScheme`,
+  below), on the same fluid particles.
 
 usage: python pysph_c0.py --re RE --c0 C0 --seed SEED --t-end T --window-from T0
-                          [--n 10] [--alpha 0.1] [--jitter 0.05] [--timeseries CSV]
+                          [--scheme matched|tvf] [--n 10] [--alpha 0.1]
+                          [--jitter 0.05] [--timeseries CSV]
+                          [--tvf-kernel quintic|cubic] [--tvf-pb p0|0]
        (threads: OMP_NUM_THREADS; the script runs PySPH serial)
 
 The scene (shearsph's defaults, `shearsph run --lattice square --h-over-d 1
@@ -47,9 +54,57 @@ Differences from shearsph's solver, all that are known:
 - the jitter: the same SplitMix64 stream and order as shearsph's
   (state.rs), so seed s is the same perturbed lattice in both codes, to
   round-off of the generator's float conversion;
-- no failure checks (shearsph stops at eps > 0.2, NaN, a speed past
-  10 U + c0 or a particle through a wall): a PySPH run that blows up prints
-  its state as it is, marked by `finite`.
+- failure: shearsph's eps_limit (a run fails when eps passes 0.2, or on
+  NaN) checked at each frame, not each step (`--eps-limit`); the run then
+  stops and is judged, as shearsph judges a failed run, on the later half of
+  its time (`outcome`, `failure_t`); shearsph's other checks (a speed past
+  10 U + c0, a particle through a wall) are not made.
+
+The TVF scheme (`--scheme tvf`): `TVFScheme(['fluid'], ['wall'], dim=2,
+rho0, c0, nu, p0 = rho0 c0^2, pb = p0, h0 = h, gx = p)` with the stock
+example's choices (its `configure_scheme`: pb = p0, no artificial viscosity
+(TVFScheme's alpha 0), tdamp 0; its kernel, `QuinticSpline`, support 3h, at
+h = dx; its integrator, `PECIntegrator` with `TransportVelocityStep`; its
+time step min(0.25 h / (c0 + U), 0.125 h^2 / nu, 0.25 sqrt(h / p)), fixed;
+its walls, `ghost_extent` = 5 layers of wall particles). The equations, as
+`TVFScheme.get_equations` assembles them (pysph.sph.wc.transport_velocity):
+- group 1: SummationDensity (TVF's: rho_i = m_i sum_j W_ij and the inverse
+  volume V_i = sum_j W_ij) on the fluid, from fluid and wall;
+- group 2: StateEquation, P = p0 (rho / rho0 - 1), not clipped (negative
+  pressure kept); SetWallVelocity (wall from fluid): the wall's ghost
+  velocity 2 u_wall - (Shepard average of the fluid's u), u_wall = 0;
+- group 3: SolidWallPressureBC (wall from fluid): the wall's pressure
+  extrapolated from the fluid's with the body force, and its density from it;
+- group 4, on the fluid: MomentumEquationPressureGradient (fluid and wall:
+  -(1/m_i) (V_i^-2 + V_j^-2) (rho_j P_i + rho_i P_j) / (rho_i + rho_j)
+  grad W, the body force, and the background pressure pb's
+  -(1/m_i) (V_i^-2 + V_j^-2) pb grad W into the transport acceleration);
+  MomentumEquationViscosity (fluid: Morris's form with the particle volumes,
+  (1/m_i) (V_i^-2 + V_j^-2) eta_ij (r . grad W) / (r^2 + eps) v_ij);
+  SolidWallNoSlipBC (wall: the same with the wall's ghost velocity);
+  MomentumEquationArtificialStress (fluid: the (u - uhat) stress of Adami
+  2013).
+- TransportVelocityStep: kick v += dt/2 a, transport velocity uhat = v +
+  dt/2 ahat, drift x += dt uhat (the particles move with uhat, not v);
+  forces; kick v += dt/2 a.
+Every difference from shearsph's solver (and so from the matched scheme):
+- walls: 5 layers at shearsph's wall positions (|n| = N .. N + 4; the first
+  at y = +-B as in shearsph), Adami's ghost velocity and extrapolated
+  pressure instead of fixed particles at rest with the fluid's EOS; the
+  wall's density is not summed;
+- integrator: the transport-velocity leapfrog (particles advected by uhat);
+- density: the same summation (mass times the kernel sum), fluid only;
+- EOS: linear with negative pressure kept (shearsph clips it at 0);
+- pressure: the inter-particle averaged pressure with volumes (Adami 2013
+  (8)) instead of the paper's (P_i + P_j) / rho_i^2, and the background
+  pressure pb = p0 = rho0 c0^2 on the transport velocity;
+- viscous form: the volume-weighted Morris form with the harmonic mean of
+  eta (equal here) and eps in the denominator, against shearsph's (14);
+- no artificial viscosity (shearsph's scene: alpha 0.1);
+- kernel: the quintic spline, support 3h (shearsph: Monaghan's cubic, 2h);
+- time step: 0.25 h / (c0 + U) (the matched scheme and shearsph: 0.5).
+`--tvf-kernel cubic` (the cubic spline instead) and `--tvf-pb 0` (no
+background pressure) switch one difference off each.
 """
 import argparse
 import json
@@ -58,7 +113,7 @@ import sys
 import time
 
 import numpy as np
-from pysph.base.kernels import CubicSpline
+from pysph.base.kernels import CubicSpline, QuinticSpline
 from pysph.base.nnps import DomainManager
 from pysph.base.utils import get_particle_array
 from pysph.solver.application import Application
@@ -67,6 +122,7 @@ from pysph.sph.basic_equations import SummationDensity
 from pysph.sph.equation import Equation, Group
 from pysph.sph.integrator import Integrator
 from pysph.sph.integrator_step import IntegratorStep
+from pysph.sph.scheme import TVFScheme
 
 from peer_metric import startup
 
@@ -175,10 +231,22 @@ class Channel(Application):
         self.fx = 2.0 * self.u0 * self.nu / self.b ** 2
         self.cols = 2 * n
         self.width = self.cols * self.d
-        self.dt = min(0.5 * self.h / (a.c0 + self.u0), 0.125 * self.h ** 2 / self.nu)
+        if a.scheme == "tvf":  # the stock example's time step
+            self.dt = min(0.25 * self.h / (a.c0 + self.u0), 0.125 * self.h ** 2 / self.nu,
+                          0.25 * math.sqrt(self.h / self.fx))
+        else:
+            self.dt = min(0.5 * self.h / (a.c0 + self.u0), 0.125 * self.h ** 2 / self.nu)
+        self.tvf = None
+        self.native = a.scheme == "tvf" and a.tvf_walls == "native"
+        if a.scheme == "tvf":
+            p0 = self.rho0 * a.c0 ** 2
+            self.tvf = TVFScheme(["fluid"], ["wall"], dim=2, rho0=self.rho0, c0=a.c0, nu=self.nu,
+                                 p0=p0, pb=p0 if a.tvf_pb == "p0" else 0.0, h0=self.h,
+                                 gx=self.fx)
         self.frame_dt = self.b / self.u0 / 4.0
         self.frames = []
         self.next_frame = 0.0
+        self.failed_t = None
         super().__init__(**kw)
 
     def create_domain(self):
@@ -188,7 +256,11 @@ class Channel(Application):
         n, d = self.a.n, self.d
         rng = splitmix_symmetric(self.a.seed)
         fx_, fy_, layer = [], [], []
-        for k in range(-(n - 1), n):
+        # the rows: shearsph's, y = k d for |k| <= N - 1; or, for TVF's own
+        # wall convention (`--tvf-walls native`), 2N rows at y = (k + 1/2) d
+        rows = ([k + 0.5 for k in range(-n, n)] if self.native
+                else [float(k) for k in range(-(n - 1), n)])
+        for k in rows:
             for c in range(self.cols):
                 fx_.append(c * d)
                 fy_.append(k * d)
@@ -200,7 +272,12 @@ class Channel(Application):
                 fy_[i] += amp * next(rng)
         fx_ = np.mod(np.array(fx_), self.width)
         wx, wy = [], []
-        for k in list(range(-(n + 1), -n + 1)) + [n, n + 1]:
+        # matched: shearsph's 2 wall layers a side (|n| = N, N + 1); tvf: the
+        # stock example's 5 (its ghost_extent = 5 dx), from the same |n| = N
+        # (native: from |y| = (N + 1/2) d, the wall's surface at |y| = B)
+        depth = 5 if self.tvf else 2
+        off = 0.5 if self.native else 0.0
+        for k in sorted(sg * (n + off + i) for sg in (-1, 1) for i in range(depth)):
             for c in range(self.cols):
                 wx.append(c * d)
                 wy.append(k * d)
@@ -208,9 +285,17 @@ class Channel(Application):
         extra = dict(h=self.h, m=m, rho=self.rho0)
         fluid = get_particle_array(name="fluid", x=fx_, y=np.array(fy_), **extra)
         wall = get_particle_array(name="wall", x=np.array(wx), y=np.array(wy), **extra)
-        for pa in (fluid, wall):
-            for prop in ("uhat", "vhat"):
-                pa.add_property(prop)
+        if self.tvf:  # the stock example's properties: TVF's arrays, V = 1 / dx^2
+            self.tvf.setup_properties([fluid, wall])
+            for pa in (fluid, wall):
+                pa.m[:] = m
+                pa.rho[:] = self.rho0
+                pa.h[:] = self.h
+                pa.V[:] = 1.0 / (d * d)
+        else:
+            for pa in (fluid, wall):
+                for prop in ("uhat", "vhat"):
+                    pa.add_property(prop)
         fluid.add_property("layer")
         fluid.layer[:] = np.array(layer, dtype=float)
         fluid.add_output_arrays(["layer"])
@@ -220,6 +305,8 @@ class Channel(Application):
 
     def create_equations(self):
         a = self.a
+        if self.tvf:
+            return self.tvf.get_equations()
         both = ["fluid", "wall"]
         return [
             Group(equations=[SummationDensity(dest="fluid", sources=both),
@@ -231,6 +318,11 @@ class Channel(Application):
         ]
 
     def create_solver(self):
+        if self.tvf:
+            kernel = QuinticSpline(dim=2) if self.a.tvf_kernel == "quintic" else CubicSpline(dim=2)
+            self.tvf.configure_solver(kernel=kernel, dt=self.dt, tf=self.a.t_end,
+                                      adaptive_timestep=False, pfreq=10 ** 9)
+            return self.tvf.solver
         integrator = KDKIntegrator(fluid=KDKStep())
         return Solver(kernel=CubicSpline(dim=2), dim=2, integrator=integrator, dt=self.dt,
                       tf=self.a.t_end, adaptive_timestep=False, pfreq=10 ** 9)
@@ -239,6 +331,11 @@ class Channel(Application):
         if solver.t + 1e-9 * self.dt >= self.next_frame:
             self.sample(solver.t)
             self.next_frame += self.frame_dt
+            f = self.frames[-1]
+            if self.failed_t is None and (not f["finite"] or f["max_eps"] > self.a.eps_limit):
+                # shearsph's failure (eps past eps_limit, or NaN), checked per frame: stop
+                self.failed_t = solver.t
+                solver.tf = solver.t
 
     def sample(self, t):
         fl = next(p for p in self.particles if p.name == "fluid")
@@ -246,23 +343,34 @@ class Channel(Application):
         eps = fl.rho[:nf] / self.rho0 - 1.0
         y, u, v = fl.y[:nf], fl.u[:nf], fl.v[:nf]
         n = self.a.n
-        band = np.clip(np.rint(y / self.d), -(n - 1), n - 1).astype(int)
+        # the bands: |y - row| <= d/2 about each starting row, the outermost
+        # taking everything beyond
+        if self.native:
+            band = np.clip(np.floor(y / self.d), -n, n - 1).astype(int)
+            ks = range(-n, n)
+        else:
+            band = np.clip(np.rint(y / self.d), -(n - 1), n - 1).astype(int)
+            ks = range(-(n - 1), n)
         ly = 2.0 * self.b
-        err = np.full(2 * n - 1, np.nan)
-        for k in range(-(n - 1), n):
+        err = np.full(len(ks), np.nan)
+        for i, k in enumerate(ks):
             sel = band == k
             if sel.any():
                 ua = startup(float(y[sel].mean() + self.b), t, ly, self.fx, self.nu)
-                err[k + n - 1] = (u[sel].mean() - ua) / self.u0
+                err[i] = (u[sel].mean() - ua) / self.u0
         self.frames.append(dict(
             t=t, eps_p99=float(np.percentile(eps, 99)), max_eps=float(eps.max()),
             mean_eps=float(eps.mean()), rms_v=float(math.sqrt(np.mean(v * v))),
             dy_rms=float(math.sqrt(np.mean((y - fl.layer[:nf] * self.d) ** 2))),
-            finite=bool(np.isfinite(fl.u[:nf]).all()), band_err=err))
+            finite=bool(np.isfinite(fl.u[:nf]).all() and np.isfinite(eps).all()), band_err=err))
 
 
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--scheme", choices=("matched", "tvf"), default="matched")
+    ap.add_argument("--tvf-kernel", choices=("quintic", "cubic"), default="quintic")
+    ap.add_argument("--tvf-pb", choices=("p0", "0"), default="p0")
+    ap.add_argument("--tvf-walls", choices=("native", "shearsph"), default="native")
     ap.add_argument("--n", type=int, default=10)
     ap.add_argument("--re", type=float, required=True)
     ap.add_argument("--c0", type=float, required=True)
@@ -271,6 +379,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--t-end", type=float, required=True)
     ap.add_argument("--window-from", type=float, required=True)
+    ap.add_argument("--eps-limit", type=float, default=0.2)
     ap.add_argument("--timeseries")
     ap.add_argument("--out", default="/tmp/pysph-c0")
     a = ap.parse_args()
@@ -280,7 +389,10 @@ def main():
     app.solve()
     wall = time.perf_counter() - start
     frames = app.frames
-    win = [f for f in frames if a.window_from < f["t"] <= a.t_end + 1e-9]
+    if app.failed_t is not None:  # as shearsph judges a failed run: the later half of its time
+        win = [f for f in frames if app.failed_t / 2 < f["t"] <= app.failed_t + 1e-9]
+    else:
+        win = [f for f in frames if a.window_from < f["t"] <= a.t_end + 1e-9]
     band = np.nanmean(np.array([f["band_err"] for f in win]), axis=0)
     disorder = next((f["t"] for f in frames if f["dy_rms"] >= 0.1), None)
     if a.timeseries:
@@ -290,9 +402,16 @@ def main():
                 fh.write("%g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n" % (
                     f["t"], f["eps_p99"], f["max_eps"], f["mean_eps"], f["rms_v"], f["dy_rms"],
                     np.nanmax(np.abs(f["band_err"]))))
+    if a.scheme == "tvf":
+        code = "pysph 1.0b2, TVFScheme as its stock Poiseuille example (bench/peers/pysph_c0.py)"
+    else:
+        code = "pysph 1.0b2, shearsph's scheme matched (bench/peers/pysph_c0.py)"
     print(json.dumps({
-        "code": "pysph 1.0b2, shearsph's scheme matched (bench/peers/pysph_c0.py)",
-        "n": a.n, "re": a.re, "c0_over_u": a.c0, "alpha": a.alpha, "jitter": a.jitter,
+        "code": code, "scheme": a.scheme,
+        "tvf_kernel": a.tvf_kernel if a.scheme == "tvf" else None,
+        "tvf_pb": a.tvf_pb if a.scheme == "tvf" else None,
+        "tvf_walls": a.tvf_walls if a.scheme == "tvf" else None,
+        "n": a.n, "re": a.re, "c0_over_u": a.c0, "alpha": 0.0 if a.scheme == "tvf" else a.alpha, "jitter": a.jitter,
         "seed": a.seed, "n_fluid": app.n_fluid, "n_wall": app.n_wall, "dt": app.dt,
         "steps": app.solver.count, "t": app.solver.t, "wall_s": wall,
         "window_from": a.window_from, "window_to": a.t_end, "window_frames": len(win),
@@ -302,6 +421,8 @@ def main():
         "rms_v_stat": float(np.mean([f["rms_v"] for f in win])),
         "dy_rms": frames[-1]["dy_rms"], "t_disorder": disorder,
         "finite": all(f["finite"] for f in frames),
+        "outcome": "failed" if app.failed_t is not None else "ok", "failure_t": app.failed_t,
+        "eps_limit": a.eps_limit,
     }))
 
 
