@@ -282,3 +282,51 @@ fn sphinxsys_matched_scene_is_matched() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--columns 3"));
 }
+
+/// `bench --disordered` times a disordered state: its base ran into
+/// disorder (dy_rms >= 0.1 d) without failing, and each row is that state
+/// tiled, a whole number of copies of the base's particles.
+#[test]
+fn the_disordered_bench_tiles_a_disordered_base() {
+    let o = shearsph(&[
+        "bench",
+        "--disordered",
+        "--kernels",
+        "monaghan",
+        "--particles",
+        "1000,3000",
+        "--steps",
+        "3",
+        "--repeats",
+        "1",
+        "--threads",
+        "1",
+        "--no-bandwidth",
+        "--json",
+        "--quiet",
+    ]);
+    let r = json(&o);
+    let bases = r["bases"].as_array().expect("the bases");
+    assert_eq!(bases.len(), 1);
+    let b = &bases[0];
+    assert!(b["failure"].is_null(), "{b}");
+    assert!(positive(b, "dy_rms") >= 0.1, "the base is disordered: {b}");
+    assert!(positive(b, "t") >= 640.0, "{b}");
+    let base_particles = b["particles"].as_u64().unwrap();
+    let rows = r["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    for (row, target) in rows.iter().zip([1000, 3000]) {
+        let p = row["particles"].as_u64().unwrap();
+        assert_eq!(
+            p % base_particles,
+            0,
+            "whole copies: {p} of {base_particles}"
+        );
+        assert!(
+            p >= target && p < target + base_particles,
+            "{p} for {target}"
+        );
+        assert_eq!(row["n_layers"].as_u64(), Some(10));
+        assert!(row["ok"].as_bool().unwrap(), "{row}");
+    }
+}

@@ -3,6 +3,7 @@
 
 use anyhow::{bail, Result};
 
+use super::disordered::{base_scene, MIN_STEPS, UNTIL_T};
 use super::{scene, scene_for, Options};
 use crate::config::Scene;
 
@@ -10,10 +11,13 @@ use crate::config::Scene;
 /// core, a scene's own default bound (`max_run_s`).
 pub const MAX_BENCH_S: f64 = 3600.0;
 
-/// Steps per measurement of a scene of `particles` particles.
+/// Steps per measurement of a scene of `particles` particles: `--steps`,
+/// or enough for the particle-steps asked, at least 10 (the disordered
+/// scene's at least [`MIN_STEPS`]).
 pub(super) fn steps_for(opts: &Options, particles: usize) -> u64 {
+    let least = if opts.disordered { MIN_STEPS } else { 10 };
     opts.steps
-        .unwrap_or_else(|| ((opts.particle_steps / particles as f64).ceil() as u64).max(10))
+        .unwrap_or_else(|| ((opts.particle_steps / particles as f64).ceil() as u64).max(least))
 }
 
 /// The estimated seconds of every measurement of `opts` on one core
@@ -24,6 +28,9 @@ pub fn estimated_seconds(opts: &Options) -> Result<f64> {
     let mut total = 0.0;
     for kernel in &opts.kernels {
         let neighbours = listed_of(&scene(kernel))?;
+        if opts.disordered {
+            total += base_seconds(kernel)?;
+        }
         for &target in &opts.particles {
             // The scene holds at least `target` particles: counted as that
             // (its few more change the estimate by a layer's worth).
@@ -37,6 +44,22 @@ pub fn estimated_seconds(opts: &Options) -> Result<f64> {
         }
     }
     Ok(total)
+}
+
+/// The estimated seconds of the disordered scene's base run of a kernel
+/// (once per kernel, to [`UNTIL_T`]), as a scene's run-time guard counts it.
+fn base_seconds(kernel: &str) -> Result<f64> {
+    let base = base_scene(kernel);
+    let info = base.kernel_info()?;
+    let channel = crate::problem::channel::Channel::resolve(&base, info)?;
+    let c0 = crate::problem::Problem::resolve(&base, info)?.c0;
+    Ok(
+        crate::problem::cost::Estimate::new(&channel, c0, UNTIL_T).seconds(
+            &channel,
+            info.support,
+            base.skin,
+        ),
+    )
 }
 
 /// Every count of `opts` within its bound, before any work: at least one

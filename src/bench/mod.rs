@@ -10,6 +10,7 @@
 //! and the median kept, since the machines this runs on are noisy.
 
 mod budget;
+pub mod disordered;
 mod empirical;
 mod machine;
 mod peers;
@@ -23,7 +24,7 @@ use crate::kernel::{Kernel, KernelVisitor};
 use crate::kernels;
 use crate::problem::lattice::LatticeGeometry;
 use crate::problem::Problem;
-use crate::solver::{self, StepsRun};
+use crate::solver::{self, FluidState, StepsRun};
 pub use budget::{check, estimated_seconds, MAX_BENCH_S};
 use budget::{check_memory, steps_for};
 pub use empirical::{empirical, empirical_table, EmpiricalBench, EMPIRICAL_RE};
@@ -54,19 +55,6 @@ pub struct Options {
     /// The disordered scene ([`DISORDERED`]) instead of the ordered one.
     pub disordered: bool,
 }
-
-/// The disordered scene: the bench scene jittered by this much (dy_rms
-/// 0.17 d from the start, past the disorder threshold 0.1 d), on a strip as
-/// wide as the channel, its flow run [`WARM_STEPS`] untimed steps before
-/// the timed ones, so the neighbour list rebuilds as a disordered run's
-/// does and the pressure field has formed (the start's compaction, up to
-/// 0.55, relaxes to about 0.01 within 8 t, about 180 steps; dy_rms stays
-/// above 0.1 d). A stationary horizon's window
-/// (64 shear times) cannot be reached at 1e5 particles in a bench; the
-/// statistics the steps cost depends on (neighbours per particle, rebuilds
-/// per step) are those of the disordered state from the first steps.
-pub const DISORDERED: f64 = 0.3;
-pub const WARM_STEPS: u64 = 400;
 
 impl Options {
     /// About a minute on two cores: every kernel at 1e3, 1e4 and 1e5
@@ -116,17 +104,14 @@ pub fn scene(kernel: &str) -> Scene {
     }
 }
 
-/// The bench scene, or its disordered form ([`DISORDERED`]).
+/// The bench scene, or its disordered form's base
+/// ([`disordered::base_scene`]).
 pub fn scene_for(kernel: &str, disordered: bool) -> Scene {
-    let mut s = scene(kernel);
     if disordered {
-        s.jitter = DISORDERED;
-        s.jitter_seed = 1;
-        // The jitter compacts the start by up to 0.55 (Re = 10, 10 U): it
-        // relaxes to eps ~ 0.01 within about 8 t, inside the warm-up.
-        s.eps_limit = 1.0;
+        disordered::base_scene(kernel)
+    } else {
+        scene(kernel)
     }
-    s
 }
 
 /// The smallest N whose lattice holds at least `target` particles (and no
@@ -273,6 +258,42 @@ pub struct Report {
     pub scene: String,
     pub rows: Vec<Row>,
     pub scaling: Vec<Scaling>,
+    /// The disordered scene's base per kernel (empty for the ordered one).
+    pub bases: Vec<DisorderedBase>,
+}
+
+/// How the disordered scene's base run went: the state every size tiles.
+#[derive(Debug, Clone, Serialize)]
+pub struct DisorderedBase {
+    pub kernel: String,
+    pub particles: usize,
+    pub columns: u32,
+    /// Time reached and steps taken (short of [`disordered::UNTIL_T`] only
+    /// if it failed).
+    pub t: f64,
+    pub steps: u64,
+    /// The RMS distance of the fluid from its starting layers' rows at the
+    /// end, in d (>= 0.1: disordered).
+    pub dy_rms: f64,
+    /// Its 99th percentile of the compaction at the end.
+    pub eps_p99: f64,
+    /// The failure it ended in, if any.
+    pub failure: Option<String>,
+}
+
+impl DisorderedBase {
+    fn of(kernel: &str, problem: &Problem, state: &FluidState) -> DisorderedBase {
+        DisorderedBase {
+            kernel: kernel.to_string(),
+            particles: problem.lattice.n_particles(),
+            columns: state.columns,
+            t: state.t,
+            steps: state.steps,
+            dy_rms: state.last.dy_rms,
+            eps_p99: state.last.eps_p99,
+            failure: state.failure.as_ref().map(|f| f.to_string()),
+        }
+    }
 }
 
 /// The process's peak resident set (VmHWM), if /proc says.
@@ -285,7 +306,9 @@ pub fn vm_hwm_bytes() -> Option<u64> {
 
 struct Steps<'a> {
     problem: &'a Problem,
-    warm: u64,
+    /// The state to tile into `problem` ([`solver::run_steps_tiled`]),
+    /// or none: the problem's own start.
+    base: Option<&'a FluidState>,
     steps: u64,
 }
 
@@ -303,17 +326,20 @@ impl KernelVisitor for Steps<'_> {
     type Output = (StepsRun, f64);
     fn visit<K: Kernel>(self) -> (StepsRun, f64) {
         (
-            solver::run_steps_after::<K>(self.problem, self.warm, self.steps),
+            match self.base {
+                Some(base) => solver::run_steps_tiled::<K>(self.problem, base, self.steps),
+                None => solver::run_steps::<K>(self.problem, self.steps),
+            },
             solver::flops_per_pair(K::INFO.flops_per_pair, self.problem),
         )
     }
 }
 
-/// Run `steps` steps of `problem` on a pool of `threads` (after `warm`
-/// untimed ones).
+/// Run `steps` steps of `problem` on a pool of `threads`, from its start
+/// or from `base` tiled into it ([`solver::run_steps_tiled`]).
 pub fn measure(
     problem: &Problem,
-    warm: u64,
+    base: Option<&FluidState>,
     steps: u64,
     threads: usize,
 ) -> Result<(StepsRun, f64)> {
@@ -326,7 +352,7 @@ pub fn measure(
             &problem.scene.kernel,
             Steps {
                 problem,
-                warm,
+                base,
                 steps,
             },
         )
@@ -361,16 +387,37 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
     check(opts)?;
     let mut machine = Machine::detect();
     let mut rows = Vec::new();
+    let mut bases = Vec::new();
     for kernel in &opts.kernels {
         let base = scene_for(kernel, opts.disordered);
         let info = base.kernel_info()?;
         // Once per kernel, on this thread, before its runs.
         let kernel_alone_ns = kernels::with_kernel(kernel, KernelAlone)
             .with_context(|| format!("unknown kernel {kernel}"))?;
+        // The disordered scene's base state, once per kernel.
+        let base_state = if opts.disordered {
+            let problem = Problem::resolve(&base, info)?;
+            progress(&format!(
+                "{kernel}: the disordered base, {} particles, run to t = {}",
+                problem.lattice.n_particles(),
+                disordered::UNTIL_T
+            ));
+            let state = disordered::base(&problem)?;
+            bases.push(DisorderedBase::of(kernel, &problem, &state));
+            Some((state, problem))
+        } else {
+            None
+        };
         for &target in &opts.particles {
-            let mut s = base.clone();
-            s.n_layers = layers_for(&s, target)?;
-            let problem = Problem::resolve(&s, info)?;
+            let problem = match &base_state {
+                Some((_, base)) => disordered::tiled(base, target)?,
+                None => {
+                    let mut s = base.clone();
+                    s.n_layers = layers_for(&s, target)?;
+                    Problem::resolve(&s, info)?
+                }
+            };
+            let s = &problem.scene;
             let particles = problem.lattice.n_particles();
             let steps = steps_for(opts, particles);
             for &threads in &opts.threads {
@@ -381,8 +428,8 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                 let mut walls = Vec::with_capacity(opts.repeats);
                 let mut last = None;
                 for _ in 0..opts.repeats {
-                    let warm = if opts.disordered { WARM_STEPS } else { 0 };
-                    let (r, flops) = measure(&problem, warm, steps, threads)?;
+                    let tile = base_state.as_ref().map(|(state, _)| state);
+                    let (r, flops) = measure(&problem, tile, steps, threads)?;
                     walls.push(r.wall_s);
                     last = Some((r, flops));
                 }
@@ -495,14 +542,18 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
         machine,
         scene: if opts.disordered {
             format!(
-                "disordered: the steady profile (7) jittered by {DISORDERED} d on a strip as wide \
-                 as the channel, {WARM_STEPS} untimed steps first; Re = 10, c0 = 10 U, alpha = \
-                 0.1, h = d, skin 0.3 h"
+                "disordered: the steady profile (7) at N = {}, jittered by {} d (seed 1) on a strip \
+                 as wide as the channel, run to t = {} (the base, below), then tiled along x to \
+                 each particle count; Re = 10, c0 = 10 U, alpha = 0.1, h = d, skin 0.3 h",
+                disordered::LAYERS,
+                disordered::JITTER,
+                disordered::UNTIL_T
             )
         } else {
             "steady profile (7), Re = 10, c0 = 10 U, alpha = 0.1, h = d, skin 0.3 h".to_string()
         },
         rows,
         scaling,
+        bases,
     })
 }

@@ -282,7 +282,7 @@ pub fn sphinxsys_match(
     let problem = sphinxsys_match_problem(layers, tau, columns, viscous)?;
     let est = crate::problem::cost::Estimate::new(&problem.channel(), problem.c0, problem.t_end);
     let first = (est.steps as u64).max(1);
-    let (probe, _) = measure(&problem, 0, first, threads)?;
+    let (probe, _) = measure(&problem, None, first, threads)?;
     let steps = ((first as f64 * problem.t_end / probe.last.t).round() as u64).max(1);
     run_matched(
         "shearsph (wendland_c2 = Wendland C2)",
@@ -301,7 +301,7 @@ fn run_matched(
     steps: u64,
     threads: usize,
 ) -> Result<PeerRun> {
-    let (r, _) = measure(problem, 0, steps, threads)?;
+    let (r, _) = measure(problem, None, steps, threads)?;
     let particles = r.n_fluid + r.n_wall;
     let flow = &problem.flow;
     Ok(PeerRun {

@@ -26,6 +26,29 @@ pub fn table(r: &Report) -> String {
         m.stream_gbs_1, m.stream_gbs_all, m.cores
     ));
     out.push_str(&format!("scene: {}\n\n", r.scene));
+    if !r.bases.is_empty() {
+        out.push_str(
+            "the disordered base each size tiles (dy_rms >= 0.1 d: disordered; eps_p99 its compaction):\n",
+        );
+        out.push_str(&format!(
+            "{:<10} {:>9} {:>7} {:>8} {:>7} {:>7} {:>9}  failure\n",
+            "kernel", "particles", "columns", "t", "steps", "dy_rms", "eps_p99"
+        ));
+        for b in &r.bases {
+            out.push_str(&format!(
+                "{:<10} {:>9} {:>7} {:>8.1} {:>7} {:>7.3} {:>9.3e}  {}\n",
+                b.kernel,
+                b.particles,
+                b.columns,
+                b.t,
+                b.steps,
+                b.dy_rms,
+                b.eps_p99,
+                b.failure.as_deref().unwrap_or("-")
+            ));
+        }
+        out.push('\n');
+    }
     out.push_str(&format!(
         "{:<10} {:>8} {:>3} {:>6} {:>9} {:>12} {:>12} {:>7} {:>8} {:>6} {:>6} {:>7} {:>6} {:>8} {:>4}\n",
         "kernel",

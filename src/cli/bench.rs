@@ -37,9 +37,11 @@ pub struct BenchArgs {
     /// No progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
-    /// The disordered scene: the bench scene jittered by 0.3 d on a strip as
-    /// wide as the channel, run 400 untimed steps before the timed ones
-    /// (the neighbour list rebuilds as a disordered run's does).
+    /// The disordered scene: the bench scene at N = 10 jittered by 0.05 d
+    /// on a strip as wide as the channel, run into its disordered,
+    /// stationary state (to t = 640), then tiled along x to each particle
+    /// count: every size times the same state, the neighbour list
+    /// rebuilding as a disordered run's does.
     #[arg(long, conflicts_with_all = ["pysph_match", "sphinxsys_match"])]
     pub disordered: bool,
     /// Instead: the wall time of the empirical answer (`c0 --empirical`,

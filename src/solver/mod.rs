@@ -35,7 +35,7 @@ pub use frame::ParticleFrame;
 pub use result::{
     classify, Class, DtLimitSteps, DtStats, Failure, FailureKind, Outcome, Particle, RunResult,
 };
-pub use steps::{run_steps, run_steps_after, Stepper, StepsRun};
+pub use steps::{disordered_state, run_steps, run_steps_tiled, FluidState, Stepper, StepsRun};
 pub use window::{Regime, Window};
 
 /// Useful floating-point operations of one step per directed pair within
@@ -141,9 +141,14 @@ struct StepCheck {
 impl<'p> Sim<'p> {
     /// Particles in place, the first neighbour list, density and forces.
     fn new<K: Kernel>(problem: &'p Problem) -> Self {
+        Self::with_state::<K>(problem, State::new(&problem.lattice, problem))
+    }
+
+    /// [`Sim::new`] from a state other than the problem's start (for
+    /// [`steps::run_steps_tiled`]): its list, density and forces.
+    fn with_state<K: Kernel>(problem: &'p Problem, mut s: State) -> Self {
         let lat = problem.lattice;
         let h = lat.h;
-        let mut s = State::new(&lat, problem);
         let params = Params::new(problem);
         let skin = problem.skin * h;
         let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
