@@ -20,150 +20,181 @@ use crate::solver::{Class, DtLimitSteps, FailureKind, Outcome, Particle, RunResu
 /// the part of a sweep's row that is not the point's key (a row is its point
 /// plus this, flattened): one result type from the solver to the report.
 /// Read back with every field optional (a row written before a field existed
-/// gets its default: NaN, 0 or none); non-finite numbers are written as JSON
+/// gets the default written beside the field: NaN, 0 or none; the same
+/// defaults are `Summary::default()`); non-finite numbers are written as JSON
 /// `null` and read back as NaN. The JSON names are summary.json's; the names
 /// rows had before they were summaries (`n`, `linf`, `l2`, `linf_max`) are
 /// read as aliases.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(default)]
 pub struct Summary {
+    #[serde(default)]
     pub kernel: String,
-    #[serde(rename = "n_layers", alias = "n")]
+    #[serde(rename = "n_layers", alias = "n", default)]
     pub n: u32,
     /// All particles, fluid and wall.
+    #[serde(default)]
     pub particles: usize,
+    #[serde(default)]
     pub fluid_particles: usize,
+    #[serde(default)]
     pub wall_particles: usize,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub d: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub h: f64,
     /// Half-width B = N dy.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub b: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub u: f64,
     /// The Reynolds number the scene gave (U B / nu when it gave p).
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub re: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub nu: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub p: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub alpha: f64,
+    #[serde(default)]
     pub initial: crate::config::Initial,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub t_end: f64,
     /// Time reached (below t_end when the run failed or was interrupted).
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default)]
     pub t: f64,
+    #[serde(default)]
     pub steps: u64,
     /// The last full step's dt and the limit that bound it (the limit that
     /// bound the most steps is `dt_limit_dominant`).
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub dt: f64,
     pub dt_limit: Option<DtLimit>,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub dt_min: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub dt_max: f64,
     /// Steps bound by each limit.
+    #[serde(default)]
     pub dt_limit_steps: DtLimitSteps,
     /// The limit that bound the most steps (`dt_limit` in rows written
     /// before the two were told apart).
     pub dt_limit_dominant: Option<DtLimit>,
     /// The sound speed (NaN when the rule gives none), its rule as resolved
     /// (`derived:field-av`, `rule10`, `value`) and c0 / U.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub c0: f64,
+    #[serde(default)]
     pub c0_rule: String,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub c0_over_u: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default)]
     pub wall_s: f64,
     /// Particles (fluid and wall) times steps per wall-clock second.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default)]
     pub particle_steps_per_s: f64,
     /// particles x steps: the work, independent of the machine.
+    #[serde(default)]
     pub particle_steps: f64,
     /// Errors of the layer-mean velocity relative to U at the end, against
     /// the start-up series (from rest) or (7) (from the steady profile).
-    #[serde(rename = "linf_rel_err", alias = "linf", with = "nan_null")]
+    #[serde(
+        rename = "linf_rel_err",
+        alias = "linf",
+        with = "nan_null",
+        default = "nan"
+    )]
     pub linf: f64,
-    #[serde(rename = "l2_rel_err", alias = "l2", with = "nan_null")]
+    #[serde(
+        rename = "l2_rel_err",
+        alias = "l2",
+        with = "nan_null",
+        default = "nan"
+    )]
     pub l2: f64,
     /// Largest L_inf error over the output times (a diagnostic: the class
     /// judges the window's `linf_stat`).
-    #[serde(rename = "linf_rel_err_max", alias = "linf_max", with = "nan_null")]
+    #[serde(
+        rename = "linf_rel_err_max",
+        alias = "linf_max",
+        with = "nan_null",
+        default = "nan"
+    )]
     pub linf_max: f64,
     /// Largest fluid compaction over every step of the run (a diagnostic:
     /// the class judges the window's `eps_stat`).
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub max_eps: f64,
     /// The horizon (`fixed` or `stationary`), the window the run is judged
     /// on (`window_from` < t <= `window_to`, `window_frames` frames) and
     /// whether it passed the stationarity test (`unsteady`: why not).
+    #[serde(default)]
     pub horizon: crate::problem::horizon::HorizonKind,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub window_from: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub window_to: f64,
+    #[serde(default)]
     pub window_frames: usize,
+    #[serde(default)]
     pub stationary: bool,
     pub unsteady: Option<String>,
     /// `ordered` or `disordered` (dy_rms at the window's end >= 0.1 d).
+    #[serde(default)]
     pub regime: crate::solver::Regime,
     /// The window's compaction: mean of the per-frame 99th percentile of
     /// eps (judged), mean of the per-frame largest, the largest.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub eps_stat: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub eps_max_mean: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub eps_max_window: f64,
     /// The window's mean-flow error relative to U (judged), its RMS over
     /// the bands, and the per-frame L_inf's mean.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub linf_stat: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub l2_stat: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub linf_frame_mean: f64,
     /// The window's mean RMS transverse velocity, and dy_rms (in d) at its
     /// end.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub rms_v_stat: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub dy_rms: f64,
     /// The first output time with dy_rms >= 0.1 d (none: stayed ordered).
     pub t_disorder: Option<f64>,
     /// Mean fluid compaction at the end.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub mean_eps: f64,
     /// RMS transverse velocity of the fluid at the end.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub rms_v: f64,
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub kinetic_energy: f64,
+    #[serde(default)]
     pub neighbour_rebuilds: u64,
     /// Mean neighbour-list length (R h + skin) per particle, at the start.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub mean_neighbours: f64,
     /// `ok`, `failed` or `interrupted` (stopped early, e.g. by Ctrl-C; `t`
     /// and `steps` say where); `not_run` for a sweep's point that did not
     /// reach the solver.
+    #[serde(default = "not_run")]
     pub outcome: String,
     /// `ok`, `inaccurate`, `over-compressed` or `failed`, by the scene's
     /// bounds below: one class for `run`, the sweep and the report;
     /// `interrupted` for a run stopped before t_end (no verdict).
+    #[serde(default = "failed")]
     pub class: Class,
     /// Inaccurate above this L_inf error (relative to U) over the outputs.
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub linf_bound: f64,
     /// Over-compressed above this window compaction (the kernel's eps0, if
     /// positive, plus the scene's eps_margin).
-    #[serde(with = "nan_null")]
+    #[serde(with = "nan_null", default = "nan")]
     pub eps_bound: f64,
     /// For `failed`: `no_c0` (the rule gives no positive c0), `scene` (the
     /// scene is invalid), `panic`, `interrupted`, or the solver's failure
@@ -177,74 +208,25 @@ pub struct Summary {
 }
 
 impl Default for Summary {
-    /// Nothing run: NaN numbers, no counts, class `failed`.
+    /// Nothing run: every field's serde default (NaN numbers, no counts,
+    /// class `failed`, outcome `not_run`), so that a field's default is
+    /// written once, beside the field.
     fn default() -> Summary {
-        Summary {
-            kernel: String::new(),
-            n: 0,
-            particles: 0,
-            fluid_particles: 0,
-            wall_particles: 0,
-            d: f64::NAN,
-            h: f64::NAN,
-            b: f64::NAN,
-            u: f64::NAN,
-            re: f64::NAN,
-            nu: f64::NAN,
-            p: f64::NAN,
-            alpha: f64::NAN,
-            initial: Default::default(),
-            t_end: f64::NAN,
-            t: 0.0,
-            steps: 0,
-            dt: f64::NAN,
-            dt_limit: None,
-            dt_min: f64::NAN,
-            dt_max: f64::NAN,
-            dt_limit_steps: DtLimitSteps::default(),
-            dt_limit_dominant: None,
-            c0: f64::NAN,
-            c0_rule: String::new(),
-            c0_over_u: f64::NAN,
-            wall_s: 0.0,
-            particle_steps_per_s: 0.0,
-            particle_steps: 0.0,
-            linf: f64::NAN,
-            l2: f64::NAN,
-            linf_max: f64::NAN,
-            max_eps: f64::NAN,
-            horizon: Default::default(),
-            window_from: f64::NAN,
-            window_to: f64::NAN,
-            window_frames: 0,
-            stationary: false,
-            unsteady: None,
-            regime: Default::default(),
-            eps_stat: f64::NAN,
-            eps_max_mean: f64::NAN,
-            eps_max_window: f64::NAN,
-            linf_stat: f64::NAN,
-            l2_stat: f64::NAN,
-            linf_frame_mean: f64::NAN,
-            rms_v_stat: f64::NAN,
-            dy_rms: f64::NAN,
-            t_disorder: None,
-            mean_eps: f64::NAN,
-            rms_v: f64::NAN,
-            kinetic_energy: f64::NAN,
-            neighbour_rebuilds: 0,
-            mean_neighbours: f64::NAN,
-            outcome: "not_run".into(),
-            class: Class::Failed,
-            linf_bound: f64::NAN,
-            eps_bound: f64::NAN,
-            failure_kind: None,
-            failure_reason: None,
-            failure_t: None,
-            failure_step: None,
-            failure_particle: None,
-        }
+        serde_json::from_value(serde_json::Value::Object(Default::default()))
+            .expect("every field of Summary has a serde default")
     }
+}
+
+fn nan() -> f64 {
+    f64::NAN
+}
+
+fn not_run() -> String {
+    "not_run".into()
+}
+
+fn failed() -> Class {
+    Class::Failed
 }
 
 /// f64 fields in JSON: non-finite values as `null`, `null` read as NaN.
@@ -433,4 +415,26 @@ pub fn timeseries_csv(samples: &[Sample]) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The defaults beside the fields are what a point that did not run
+    /// writes: NaN (`null`) numbers but the times and speeds (0), no counts,
+    /// outcome `not_run`, class `failed`.
+    #[test]
+    fn the_default_summary_is_nothing_run() {
+        let s = Summary::default();
+        assert_eq!(s.outcome, "not_run");
+        assert_eq!(s.class, Class::Failed);
+        assert!(s.d.is_nan() && s.c0.is_nan() && s.eps_bound.is_nan());
+        assert_eq!((s.t, s.wall_s, s.particle_steps_per_s), (0.0, 0.0, 0.0));
+        assert_eq!((s.n, s.steps, s.particles), (0, 0, 0));
+        assert!(s.failure_kind.is_none() && s.dt_limit.is_none());
+        let json: serde_json::Value = serde_json::from_str(&s.to_json()).unwrap();
+        assert_eq!(json["linf_rel_err"], serde_json::Value::Null);
+        assert_eq!(json["particle_steps"], 0.0);
+    }
 }
