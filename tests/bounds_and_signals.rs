@@ -725,7 +725,7 @@ proptest! {
             0 => {
                 let p = sweep(&["--jitter".into(), "0.05".into(), "--seeds".into(), v.to_string()]);
                 let r = match p {
-                    Ok(c) => c.a.spec().map(|_| ()).map_err(|e| format!("{e:#}")),
+                    Ok(c) => c.a.grid.spec().map(|_| ()).map_err(|e| format!("{e:#}")),
                     Err(e) => Err(e.to_string()),
                 };
                 ("--seeds", v, (1..=1_000).contains(&v), r)
