@@ -1,69 +1,14 @@
 //! What a scene names, found: the kernel by name, its discretisation by
-//! lattice and h/d, and h/d's own syntax (a number or an exact rational).
+//! lattice and h/d.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::HOverD;
 
 use super::{invalid, SceneError};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
 use crate::kernels;
-
-/// h/d from TOML: a number, or a string holding a number or an exact
-/// rational "P/Q".
-pub(super) fn de_h_over_d<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum Raw {
-        Number(f64),
-        Text(String),
-    }
-    match Raw::deserialize(d)? {
-        Raw::Number(v) => Ok(v),
-        Raw::Text(t) => parse_h_over_d(&t).map_err(serde::de::Error::custom),
-    }
-}
-
-/// h/d as a flag or TOML string gives it: a number (`1.3`) or an exact
-/// rational `P/Q` (`13/10`, whole P and Q). The rational's f64 is P / Q
-/// rounded once (P and Q are exact in f64), so it equals the generated,
-/// correctly rounded h/d of the same rational bit for bit; two rationals
-/// with denominators below 10^5 differ by far more than the lookup's 1e-12,
-/// so matching the f64 matches the exact rational.
-pub fn parse_h_over_d(s: &str) -> Result<f64, String> {
-    let s = s.trim();
-    let bad = || format!("h_over_d {s:?} is neither a number nor a rational P/Q (e.g. 13/10)");
-    match s.split_once('/') {
-        Some((p, q)) => {
-            let p: u64 = p.trim().parse().map_err(|_| bad())?;
-            let q: u64 = q.trim().parse().map_err(|_| bad())?;
-            if q == 0 || p >= 1 << 53 || q >= 1 << 53 {
-                return Err(bad());
-            }
-            Ok(p as f64 / q as f64)
-        }
-        None => s.parse().map_err(|_| bad()),
-    }
-}
-
-/// h/d as a short exact rational for a message ("13/10"), or the number
-/// itself when no fraction with a denominator up to 1000 gives it to 1e-12.
-pub fn rational_text(v: f64) -> String {
-    (1..=1000u32)
-        .find_map(|q| {
-            let p = (v * f64::from(q)).round();
-            ((p / f64::from(q) - v).abs() <= 1e-12 * v.abs()).then_some((p, q))
-        })
-        .map_or_else(
-            || fmt_value(v),
-            |(p, q)| {
-                if q == 1 {
-                    format!("{p}")
-                } else {
-                    format!("\"{p}/{q}\"")
-                }
-            },
-        )
-}
 
 /// The generated discretisation of `info` a scene names (its `lattice` and
 /// `h_over_d`), or an error naming the line to add to
@@ -98,7 +43,7 @@ pub fn discretisation(
                 fmt_value(h_over_d),
                 known.join("; "),
                 lattice.name(),
-                rational_text(h_over_d),
+                HOverD::toml_text(h_over_d),
             ),
         )
     })

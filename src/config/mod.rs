@@ -8,6 +8,7 @@
 //!
 //! One job per file: [`scene`] the fields and their defaults, [`overlay`]
 //! reading TOML in layers, [`c0_spec`] the c0 rule as a typed value,
+//! [`h_over_d`] h/d as one exact type,
 //! [`lookup`] the kernel and discretisation a scene names, [`error`] the
 //! errors and the guards shared by every field, [`bounds`] the bound of
 //! every count a command takes (seeds, threads, points, repeats).
@@ -15,6 +16,7 @@
 pub mod bounds;
 pub mod c0_spec;
 pub mod error;
+pub mod h_over_d;
 pub mod lookup;
 pub mod overlay;
 pub mod scene;
@@ -25,7 +27,8 @@ pub use c0_spec::{
 };
 pub use error::{check_alpha, SceneError};
 pub(crate) use error::{invalid, positive};
-pub use lookup::{discretisation, kernel_info, parse_h_over_d, rational_text};
+pub use h_over_d::HOverD;
+pub use lookup::{discretisation, kernel_info};
 pub use overlay::{overlay, DEFAULT_SCENE};
 pub use scene::{
     ClassRules, HorizonKind, Initial, PressureForm, Scene, ViscousNormalisation, WallVelocity,

@@ -4,7 +4,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::lookup::de_h_over_d;
+use super::h_over_d::de_scene_h_over_d;
 use super::{discretisation, kernel_info, C0Spec, SceneError};
 use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
 
@@ -78,7 +78,7 @@ pub struct Scene {
     /// Smoothing length h in units of d: a number or an exact rational
     /// string ("13/10"). With `lattice` it must name a generated
     /// discretisation of the kernel (`kernels/discretisations.toml`).
-    #[serde(default = "one", deserialize_with = "de_h_over_d")]
+    #[serde(default = "one", deserialize_with = "de_scene_h_over_d")]
     pub h_over_d: f64,
     /// Columns of the periodic strip: by default the fewest whole columns
     /// wider than the support's diameter 2 R h (the least the scene needs);

@@ -133,7 +133,7 @@ impl Disc {
             Disc::Paper => super::papers(info)?,
             Disc::Square => super::square_discretisation(info)?,
         };
-        let h_over_d = HOverD::parse_exact(on.h_over_d_exact)?;
+        let h_over_d: HOverD = on.h_over_d_exact.parse().ok()?;
         Some((
             Discretisation {
                 lattice: on.lattice,

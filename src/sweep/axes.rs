@@ -3,109 +3,10 @@
 //! jittered by an amplitude with a seed), and [`At`], a point's integer
 //! position on every axis: the key rows are joined by.
 
-use std::fmt;
+use serde::{Deserialize, Serialize};
 
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
+pub use crate::config::HOverD;
 use crate::kernel::Lattice;
-
-/// h/d as an exact rational P/Q in lowest terms (`1`, `13/10`), as the
-/// generator derives it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct HOverD {
-    p: u32,
-    q: u32,
-}
-
-impl HOverD {
-    /// The paper's h = d.
-    pub const ONE: HOverD = HOverD { p: 1, q: 1 };
-
-    /// P/Q reduced; `None` for Q = 0 or P = 0.
-    pub fn new(p: u32, q: u32) -> Option<HOverD> {
-        if p == 0 || q == 0 {
-            return None;
-        }
-        let (mut a, mut b) = (p, q);
-        while b != 0 {
-            (a, b) = (b, a % b);
-        }
-        Some(HOverD { p: p / a, q: q / a })
-    }
-
-    /// An exact rational as the generator writes it: `1`, `13/10`.
-    pub fn parse_exact(s: &str) -> Option<HOverD> {
-        let s = s.trim();
-        match s.split_once('/') {
-            Some((p, q)) => HOverD::new(p.trim().parse().ok()?, q.trim().parse().ok()?),
-            None => HOverD::new(s.parse().ok()?, 1),
-        }
-    }
-
-    /// P / Q rounded once: bit for bit the f64 a scene's `"P/Q"` gives
-    /// (`config::parse_h_over_d`) and the generated h/d.
-    pub fn value(self) -> f64 {
-        f64::from(self.p) / f64::from(self.q)
-    }
-}
-
-impl fmt::Display for HOverD {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.q == 1 {
-            write!(f, "{}", self.p)
-        } else {
-            write!(f, "{}/{}", self.p, self.q)
-        }
-    }
-}
-
-/// In JSON and TOML as its exact text (`"13/10"`); read from that text or
-/// from a number that is one exactly (`1`).
-impl Serialize for HOverD {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(self)
-    }
-}
-
-impl<'de> Deserialize<'de> for HOverD {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = HOverDValue::deserialize(d)?;
-        let text = match &v {
-            HOverDValue::Text(t) => t.clone(),
-            HOverDValue::Number(x) => x.to_string(),
-        };
-        HOverD::parse_exact(&text).ok_or_else(|| {
-            serde::de::Error::custom(format!("h_over_d {text:?} is not an exact rational P/Q"))
-        })
-    }
-}
-
-/// h/d as a sweep file or flag gives it: a number (`1.3`) or a string
-/// holding a number or an exact rational (`"13/10"`). `resolved()` makes
-/// each the generated exact text.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum HOverDValue {
-    Number(f64),
-    Text(String),
-}
-
-impl fmt::Display for HOverDValue {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            HOverDValue::Number(x) => write!(f, "{x}"),
-            HOverDValue::Text(t) => f.write_str(t),
-        }
-    }
-}
-
-impl std::str::FromStr for HOverDValue {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::config::parse_h_over_d(s)?;
-        Ok(HOverDValue::Text(s.trim().to_string()))
-    }
-}
 
 /// A point's discretisation: the starting lattice and h/d.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -206,17 +107,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn h_over_d_is_exact_and_matches_the_scene() {
-        let h = HOverD::parse_exact("26/20").unwrap();
-        assert_eq!(h.to_string(), "13/10");
-        assert_eq!(
-            h.value().to_bits(),
-            crate::config::parse_h_over_d("13/10").unwrap().to_bits()
-        );
-        assert_eq!(HOverD::parse_exact("1"), Some(HOverD::ONE));
-        assert_eq!(HOverD::parse_exact("0"), None);
-        assert_eq!(HOverD::parse_exact("1/0"), None);
-        assert_eq!(HOverD::parse_exact("1.3"), None);
+    fn a_point_s_id_names_its_discretisation_and_start() {
+        let h: HOverD = "26/20".parse().unwrap();
         let d = Discretisation {
             lattice: Lattice::Square,
             h_over_d: h,

@@ -7,7 +7,7 @@ use std::fmt;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::axes::{At, Discretisation, HOverD, HOverDValue, Start};
+use super::axes::{At, Discretisation, HOverD, Start};
 use super::ClassRules;
 use crate::config::bounds::{self, distinct};
 use crate::config::{C0Spec, Scene, SceneError};
@@ -158,10 +158,10 @@ pub struct SweepSpec {
     #[serde(default = "default_lattice")]
     pub lattice: Vec<Lattice>,
     /// h/d values, numbers or exact rationals (`"13/10"`); each with each
-    /// lattice must be a generated discretisation of every kernel. Stored
-    /// as the generated exact text.
+    /// lattice must be a generated discretisation of every kernel. Written
+    /// as the exact text.
     #[serde(default = "default_h_over_d")]
-    pub h_over_d: Vec<HOverDValue>,
+    pub h_over_d: Vec<HOverD>,
     /// Jitter amplitudes of the start, in d (0: the perfect lattice).
     #[serde(default = "default_jitter")]
     pub jitter: Vec<f64>,
@@ -188,8 +188,8 @@ fn default_alpha() -> Vec<f64> {
 fn default_lattice() -> Vec<Lattice> {
     vec![Lattice::Triangular]
 }
-fn default_h_over_d() -> Vec<HOverDValue> {
-    vec![HOverDValue::Text("1".into())]
+fn default_h_over_d() -> Vec<HOverD> {
+    vec![HOverD::ONE]
 }
 fn default_jitter() -> Vec<f64> {
     vec![0.0]
@@ -265,23 +265,6 @@ pub fn label_scene(e: SceneError, origins: &dyn Origins) -> SceneError {
         }
         None => e,
     }
-}
-
-/// The exact h/d a value names: its own exact text, or the generated h/d
-/// of any kernel it equals to 1e-12 (the scene's lookup).
-fn exact_h_over_d(v: &HOverDValue) -> Option<HOverD> {
-    let x = match v {
-        HOverDValue::Text(t) => match HOverD::parse_exact(t) {
-            Some(h) => return Some(h),
-            None => crate::config::parse_h_over_d(t).ok()?,
-        },
-        HOverDValue::Number(x) => *x,
-    };
-    kernels::KERNELS
-        .iter()
-        .flat_map(|k| k.discretisations.iter())
-        .find(|d| (d.h_over_d - x).abs() <= 1e-12 * x.abs())
-        .and_then(|d| HOverD::parse_exact(d.h_over_d_exact))
 }
 
 impl Default for SweepSpec {
@@ -409,7 +392,7 @@ impl SweepSpec {
         let base = Scene::load(None, self.scene.clone())
             .map_err(|e| anyhow::anyhow!("{}: {e}", origins.scene_table()))?;
         crate::problem::check_fields(&base).map_err(|e| label_scene(e, origins))?;
-        self.resolve_discretisations(origins)?;
+        self.check_discretisations(origins)?;
         distinct(&name("h_over_d"), &self.h_over_d)?;
         self.check_by_scene(&base, origins)?;
         Ok(self)
@@ -438,22 +421,15 @@ impl SweepSpec {
         .fold(1u64, u64::saturating_mul)
     }
 
-    /// Each h/d as the generated exact text, after checking that every
-    /// kernel has every lattice x h/d pair (else the scene's own error,
-    /// naming the line to add and the command to run).
-    fn resolve_discretisations(&mut self, origins: &dyn Origins) -> Result<()> {
-        for v in &mut self.h_over_d {
-            let x = match v {
-                HOverDValue::Number(x) => *x,
-                HOverDValue::Text(t) => crate::config::parse_h_over_d(t)
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", origins.grid("h_over_d")))?,
-            };
+    /// Check that every kernel has every lattice x h/d pair (else the
+    /// scene's own error, naming the line to add and the command to run).
+    fn check_discretisations(&self, origins: &dyn Origins) -> Result<()> {
+        for v in &self.h_over_d {
             for k in &self.kernels {
                 let info = crate::config::kernel_info(k)?;
                 for &lattice in &self.lattice {
-                    let d = crate::config::discretisation(info, lattice, x)
+                    crate::config::discretisation(info, lattice, v.value())
                         .with_context(|| format!("{} = {v}", origins.grid("h_over_d")))?;
-                    *v = HOverDValue::Text(d.h_over_d_exact.to_string());
                 }
             }
         }
@@ -489,8 +465,7 @@ impl SweepSpec {
     fn discretisations(&self) -> Vec<(u32, u32, Discretisation)> {
         let mut out = Vec::new();
         for (li, &lattice) in (0..).zip(&self.lattice) {
-            for (hi, h) in (0..).zip(&self.h_over_d) {
-                let h_over_d = exact_h_over_d(h).expect("checked by resolved()");
+            for (hi, &h_over_d) in (0..).zip(&self.h_over_d) {
                 out.push((li, hi, Discretisation { lattice, h_over_d }));
             }
         }

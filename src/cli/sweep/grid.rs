@@ -54,7 +54,7 @@ pub struct GridArgs {
     /// lattice x h/d must be generated for every kernel.
     #[arg(long, value_delimiter = ',')]
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub h_over_d: Vec<sweep::HOverDValue>,
+    pub h_over_d: Vec<crate::config::HOverD>,
     /// Jitter amplitudes of the start in d (default 0: the perfect lattice).
     #[arg(long, value_delimiter = ',')]
     #[serde(skip_serializing_if = "Vec::is_empty")]

@@ -8,7 +8,7 @@ fn new_axes_suffix_the_id_and_refuse_ungenerated_pairs() {
         re: vec![1.0],
         c0: vec!["derived".into()],
         lattice: vec![Lattice::Triangular, Lattice::Square],
-        h_over_d: vec![HOverDValue::Number(1.0), HOverDValue::Number(1.3)],
+        h_over_d: vec![HOverD::ONE, "1.3".parse().unwrap()],
         jitter: vec![0.0, 0.05],
         seeds: 2,
         ..SweepSpec::default()
@@ -16,12 +16,9 @@ fn new_axes_suffix_the_id_and_refuse_ungenerated_pairs() {
     .resolved()
     .unwrap();
     assert_eq!(
-        spec.h_over_d,
-        vec![
-            HOverDValue::Text("1".into()),
-            HOverDValue::Text("13/10".into())
-        ],
-        "stored as the generated exact text"
+        spec.to_toml().lines().find(|l| l.starts_with("h_over_d")),
+        Some(r#"h_over_d = ["1", "13/10"]"#),
+        "stored as the exact text"
     );
     let points = spec.points();
     assert_eq!(points.len(), 2 * 2 * 3);
@@ -66,7 +63,7 @@ fn new_axes_suffix_the_id_and_refuse_ungenerated_pairs() {
 
     // h = 17/10 exists on the square lattice only: the scene's message
     let e = SweepSpec {
-        h_over_d: vec![HOverDValue::Text("17/10".into())],
+        h_over_d: vec!["17/10".parse().unwrap()],
         ..SweepSpec::default()
     }
     .resolved()
@@ -118,7 +115,9 @@ fn new_axes_suffix_the_id_and_refuse_ungenerated_pairs() {
         ),
         (
             SweepSpec {
-                h_over_d: vec![HOverDValue::Text("1".into()), HOverDValue::Number(1.0)],
+                h_over_d: toml::from_str::<SweepSpec>(r#"h_over_d = ["1", 1.0]"#)
+                    .unwrap()
+                    .h_over_d,
                 ..SweepSpec::default()
             },
             "twice",
