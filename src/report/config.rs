@@ -5,7 +5,7 @@
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::plan::Case;
+use super::plan::{Case, CaseDiscretisation};
 use crate::kernel::KernelInfo;
 use crate::kernels;
 use crate::sweep::{ClassRules, Start};
@@ -361,8 +361,14 @@ impl ReportConfig {
     /// The cases the report runs: the paper's discretisation perfect and
     /// perturbed, then the square one's (unless `square.re` is empty).
     pub fn cases(&self) -> Vec<Case> {
-        let n = if self.square.re.is_empty() { 2 } else { 4 };
-        Case::ALL[..n].to_vec()
+        let mut discs = vec![CaseDiscretisation::Paper];
+        if !self.square.re.is_empty() {
+            discs.push(CaseDiscretisation::Square);
+        }
+        discs
+            .into_iter()
+            .flat_map(|disc| [false, true].map(|perturbed| Case { disc, perturbed }))
+            .collect()
     }
 
     /// The perturbation in words: "jittered by 0.05 d, 3 seeds pooled".
@@ -396,7 +402,7 @@ mod tests {
 
     use super::*;
     use crate::config::C0Rule;
-    use crate::report::plan::{Disc, Key, Role};
+    use crate::report::plan::{CaseDiscretisation, Key, Role};
 
     /// A config from before `[perturbed]` and `[square]` parses, with the
     /// default report's choices; one that gives them keeps its own.
@@ -436,7 +442,7 @@ mod tests {
         c.check().expect("square.re = [] is valid");
         let plan = c.plan();
         assert!(plan.keys.iter().flatten().all(|k| match k.role {
-            Role::Rule { disc, .. } | Role::Map { disc, .. } => disc != Disc::Square,
+            Role::Rule { disc, .. } | Role::Map { disc, .. } => disc != CaseDiscretisation::Square,
             Role::Speed { .. } => true,
         }));
         let only = |re: f64| vec![re];
@@ -482,7 +488,7 @@ mod tests {
                     let want = Key {
                         kernel: k,
                         role: Role::Rule {
-                            disc: Disc::Paper,
+                            disc: CaseDiscretisation::Paper,
                             seed: 0,
                             re: ri,
                             rule: C0Rule::Code(&crate::config::RULE10),

@@ -144,7 +144,7 @@ struct Target {
     /// Index into `empirical.re`.
     re_index: usize,
     re: f64,
-    case_disc: super::plan::Disc,
+    case_disc: super::plan::CaseDiscretisation,
 }
 
 /// The engine's search as the report configures it: the perturbed starts'
@@ -205,7 +205,7 @@ pub fn find_all(
     bar: &ProgressBar,
 ) -> Result<Option<Vec<Empirical>>> {
     let mut targets = Vec::new();
-    let discs: Vec<super::plan::Disc> = {
+    let discs: Vec<super::plan::CaseDiscretisation> = {
         let mut v: Vec<_> = config.cases().iter().map(|c| c.disc).collect();
         v.dedup();
         v

@@ -10,10 +10,10 @@
 //! the loop; the verdicts are sentences built
 //! from those rows, never typed in.
 
-mod answer;
 mod config;
 mod empirical;
 mod figures;
+mod first_screen;
 mod html;
 pub mod law;
 mod plan;

@@ -17,7 +17,7 @@ impl ReportConfig {
     fn map_res(&self, case: Case) -> Vec<usize> {
         let keep = |re: &f64| {
             (!case.perturbed || self.perturbed.re.contains(re))
-                && (case.disc == Disc::Paper || self.square.re.contains(re))
+                && (case.disc == CaseDiscretisation::Paper || self.square.re.contains(re))
         };
         (0..self.maps.re.len())
             .filter(|&i| keep(&self.maps.re[i]))
@@ -113,16 +113,16 @@ impl ReportConfig {
     }
 }
 
-/// Which discretisation a case runs on.
+/// Which of a kernel's generated discretisations a case runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Disc {
+pub enum CaseDiscretisation {
     /// The paper's: triangular, h = d.
     Paper,
     /// The kernel's [`square_discretisation`].
     Square,
 }
 
-impl Disc {
+impl CaseDiscretisation {
     /// The kernel's discretisation of this kind, as a point takes it and as
     /// generated; `None` when none is generated.
     pub fn of(
@@ -130,8 +130,8 @@ impl Disc {
         info: &'static KernelInfo,
     ) -> Option<(Discretisation, &'static DiscretisationInfo)> {
         let on = match self {
-            Disc::Paper => super::papers(info)?,
-            Disc::Square => super::square_discretisation(info)?,
+            CaseDiscretisation::Paper => super::papers(info)?,
+            CaseDiscretisation::Square => super::square_discretisation(info)?,
         };
         let h_over_d: HOverD = on.h_over_d_exact.parse().ok()?;
         Some((
@@ -141,6 +141,14 @@ impl Disc {
             },
             on,
         ))
+    }
+
+    /// Its part of a case's file names: none for the paper's.
+    fn file_part(self) -> &'static str {
+        match self {
+            CaseDiscretisation::Paper => "",
+            CaseDiscretisation::Square => "_square",
+        }
     }
 
     /// The rules run at the verdicts' Re: every rule, on either
@@ -155,50 +163,34 @@ impl Disc {
 /// perturbed: the worst over the seeds).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Case {
-    pub disc: Disc,
+    pub disc: CaseDiscretisation,
     pub perturbed: bool,
 }
 
 impl Case {
-    pub const ALL: [Case; 4] = [
-        Case {
-            disc: Disc::Paper,
-            perturbed: false,
-        },
-        Case {
-            disc: Disc::Paper,
-            perturbed: true,
-        },
-        Case {
-            disc: Disc::Square,
-            perturbed: false,
-        },
-        Case {
-            disc: Disc::Square,
-            perturbed: true,
-        },
-    ];
-    pub const PAPER: Case = Case::ALL[0];
+    /// The paper's discretisation from the perfect lattice: the report's
+    /// first case, and its tables' and Figure 4's.
+    pub const PAPER: Case = Case {
+        disc: CaseDiscretisation::Paper,
+        perturbed: false,
+    };
+    /// The paper's discretisation, perturbed: the first screen's second.
+    pub const PAPER_PERTURBED: Case = Case {
+        disc: CaseDiscretisation::Paper,
+        perturbed: true,
+    };
 
-    /// The suffix of its files: "", "_perturbed", "_square",
-    /// "_square_perturbed".
-    pub fn file_suffix(self) -> &'static str {
-        match (self.disc, self.perturbed) {
-            (Disc::Paper, false) => "",
-            (Disc::Paper, true) => "_perturbed",
-            (Disc::Square, false) => "_square",
-            (Disc::Square, true) => "_square_perturbed",
-        }
+    /// The suffix of its files, from its parts: "", "_perturbed",
+    /// "_square", "_square_perturbed".
+    pub fn file_suffix(self) -> String {
+        let start = if self.perturbed { "_perturbed" } else { "" };
+        format!("{}{start}", self.disc.file_part())
     }
 
-    /// The page's figure id of its stability maps.
-    pub fn figure_id(self) -> &'static str {
-        match (self.disc, self.perturbed) {
-            (Disc::Paper, false) => "stability",
-            (Disc::Paper, true) => "stability_perturbed",
-            (Disc::Square, false) => "stability_square",
-            (Disc::Square, true) => "stability_square_perturbed",
-        }
+    /// The page's figure id of its stability maps (`stability` and the
+    /// file suffix).
+    pub fn figure_id(self) -> String {
+        format!("stability{}", self.file_suffix())
     }
 
     /// "perfect" or "perturbed".
@@ -230,14 +222,14 @@ pub enum Role {
     /// derived model named (the default one too), on `disc` from start
     /// `seed` (0: the perfect lattice).
     Rule {
-        disc: Disc,
+        disc: CaseDiscretisation,
         seed: u32,
         re: usize,
         rule: C0Rule,
     },
     /// The stability map: `maps.re[re]`, `maps.c0_over_u[c0]`.
     Map {
-        disc: Disc,
+        disc: CaseDiscretisation,
         seed: u32,
         re: usize,
         c0: usize,

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::Result;
 use serde::Serialize;
 
-use super::plan::Disc;
+use super::plan::CaseDiscretisation;
 use super::ReportConfig;
 use crate::config::C0Spec;
 use crate::format::fmt_num;
@@ -58,7 +58,7 @@ pub fn ordered_all(
     }
     let mut out = Vec::new();
     for &info in infos {
-        let Some((disc, _)) = Disc::Paper.of(info) else {
+        let Some((disc, _)) = CaseDiscretisation::Paper.of(info) else {
             continue;
         };
         for &re in &config.empirical.re {
@@ -194,7 +194,7 @@ pub fn growth_map(
         },
         ..defaults
     };
-    let mut discs: Vec<Disc> = config.cases().iter().map(|c| c.disc).collect();
+    let mut discs: Vec<CaseDiscretisation> = config.cases().iter().map(|c| c.disc).collect();
     discs.dedup();
     for disc_kind in discs {
         for &info in infos {

@@ -26,10 +26,10 @@ impl Folder {
     }
 
     /// An SVG file, shown in section `id` with the CSV files behind it.
-    fn figure(&mut self, id: &'static str, file: &str, svg: String, csv: &[&str]) -> Result<()> {
+    fn figure(&mut self, id: &str, file: &str, svg: String, csv: &[&str]) -> Result<()> {
         self.put(file, &svg)?;
         self.figures.push(Figure {
-            id,
+            id: id.into(),
             svg_file: file.into(),
             csv_files: csv.iter().map(|c| c.to_string()).collect(),
             svg,
@@ -156,13 +156,13 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
             f.put(&csv, &charts::map_csv(k, &cells))?;
             f.put(&lines_csv, &charts::map_lines_csv(k, &lines))?;
             f.figure(
-                case.figure_id(),
+                &case.figure_id(),
                 &format!("{name}.svg"),
                 svg,
                 &[&csv, &lines_csv],
             )?;
             if case == Case::PAPER {
-                let perturbed_rows = d.plan.map_rows(&d.rows, ki, Case::ALL[1], None);
+                let perturbed_rows = d.plan.map_rows(&d.rows, ki, Case::PAPER_PERTURBED, None);
                 let perturbed: Vec<&Row> = perturbed_rows.iter().collect();
                 if let Some(svg) = failure_picture(d, &here, &perturbed)? {
                     f.figure("failure", &format!("failure_{k}.svg"), svg, &[])?;
@@ -180,7 +180,7 @@ fn histories(d: &ReportData, f: &mut Folder) -> Result<()> {
     for e in d
         .empirical
         .iter()
-        .filter(|e| e.case == Case::ALL[1] && e.re_index == 0)
+        .filter(|e| e.case == Case::PAPER_PERTURBED && e.re_index == 0)
     {
         let a = &e.answer;
         let first = a.search.first_over_u * a.u;
@@ -224,13 +224,13 @@ fn answer(d: &ReportData, f: &mut Folder) -> Result<()> {
         .map(|ki| {
             serde_json::json!({
                 "kernel": d.infos[ki].name,
-                "answer": super::answer::answers(d, ki),
+                "answer": super::first_screen::answers(d, ki),
             })
         })
         .collect();
     f.put("answer.json", &serde_json::to_string_pretty(&words)?)?;
     for (ki, info) in d.infos.iter().enumerate() {
-        let panels = super::answer::panels(d, ki);
+        let panels = super::first_screen::panels(d, ki);
         let k = info.name;
         let csv = format!("answer_{k}.csv");
         f.put(&csv, &charts::rules_csv(k, &panels))?;

@@ -1,6 +1,6 @@
 //! The typed values of a sweep's axes beyond kernel, N, Re, alpha and c0:
 //! the discretisation (lattice and an exact h/d) and the start (perfect or
-//! jittered by an amplitude with a seed), and [`At`], a point's integer
+//! jittered by an amplitude with a seed), and [`GridPosition`], a point's integer
 //! position on every axis: the key rows are joined by.
 
 use serde::{Deserialize, Serialize};
@@ -82,7 +82,7 @@ impl Start {
 #[derive(
     Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
 )]
-pub struct At {
+pub struct GridPosition {
     pub kernel: u32,
     pub lattice: u32,
     pub h_over_d: u32,
@@ -94,11 +94,11 @@ pub struct At {
     pub c0: u32,
 }
 
-impl At {
+impl GridPosition {
     /// The same position with the seed dropped: what the seeds of one
     /// perturbed point share.
-    pub fn without_seed(self) -> At {
-        At { seed: 0, ..self }
+    pub fn without_seed(self) -> GridPosition {
+        GridPosition { seed: 0, ..self }
     }
 }
 

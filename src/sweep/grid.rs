@@ -1,5 +1,5 @@
 //! A sweep's grid: the points (kernels x discretisation x N x Re x alpha x
-//! start x c0) a spec spans, each with its stable id, its position [`At`]
+//! start x c0) a spec spans, each with its stable id, its position [`GridPosition`]
 //! and its scene.
 
 use std::fmt;
@@ -7,7 +7,7 @@ use std::fmt;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::axes::{At, Discretisation, HOverD, Start};
+use super::axes::{Discretisation, GridPosition, HOverD, Start};
 use super::ClassRules;
 use crate::config::bounds::{self, distinct};
 use crate::config::{C0Spec, Scene, SceneError};
@@ -37,7 +37,7 @@ pub struct Point {
     /// Position in the whole grid (before sharding).
     pub index: usize,
     /// Position on each axis of the grid.
-    pub at: At,
+    pub at: GridPosition,
     pub kernel: String,
     pub n: u32,
     pub re: f64,
@@ -53,7 +53,7 @@ impl Point {
     pub fn paper(index: usize, kernel: &str, n: u32, re: f64, alpha: f64, c0: PointC0) -> Point {
         Point {
             index,
-            at: At::default(),
+            at: GridPosition::default(),
             kernel: kernel.to_string(),
             n,
             re,
@@ -508,7 +508,7 @@ impl SweepSpec {
                                     let (_, seed) = start.jitter();
                                     out.push(Point {
                                         index: out.len(),
-                                        at: At {
+                                        at: GridPosition {
                                             kernel: ki,
                                             lattice: li,
                                             h_over_d: hi,

@@ -26,7 +26,7 @@ pub mod store;
 
 pub use crate::config::ClassRules;
 pub use crate::solver::{classify, Class};
-pub use axes::{At, Discretisation, HOverD, Start};
+pub use axes::{Discretisation, GridPosition, HOverD, Start};
 pub use check::check_points;
 pub use grid::{grid_flag, label_scene, Origins, Point, PointC0, SweepSpec, Unlabelled};
 pub use row::{pool_over_seeds, pool_rows, OverSeeds, Row};

@@ -8,7 +8,7 @@ use std::ops::{Deref, DerefMut};
 
 use serde::{Deserialize, Serialize};
 
-use super::axes::{At, HOverD, Start};
+use super::axes::{GridPosition, HOverD, Start};
 use super::{Class, Point};
 use crate::kernel::Lattice;
 use crate::output::{nan_null, Summary};
@@ -41,7 +41,7 @@ pub struct Row {
     /// Not stored: given by the run, or on reading by the point of the
     /// grid with this row's id ([`super::store::on_grid`]).
     #[serde(skip)]
-    pub at: At,
+    pub at: GridPosition,
     /// What the run gave; for a point that did not reach the solver, its
     /// kernel, N, Re, alpha, c0 if any, and why (`failure_kind`,
     /// `failure_reason`), the rest NaN or 0.
@@ -188,11 +188,11 @@ fn migrate_flat_row(o: &mut serde_json::Map<String, serde_json::Value>) {
 }
 
 /// A point's outcome over its starts' seeds (rows that share
-/// [`At::without_seed`]): the perfect start is a group of one.
+/// [`GridPosition::without_seed`]): the perfect start is a group of one.
 #[derive(Debug, Clone)]
 pub struct OverSeeds<'a> {
     /// The rows' common position, with seed 0.
-    pub at: At,
+    pub at: GridPosition,
     /// The seeds pooled as `empirical::trial::pool` pools them
     /// (docs/stationary.md): failed when any seed failed (that seed's row,
     /// its failure kind and reason); else the first seed's row with the
@@ -228,8 +228,9 @@ pub fn pool_rows(rows: &[&Row]) -> Row {
 /// Fold `rows` over seeds: one [`OverSeeds`] per point without its seed,
 /// in the order of each group's first row.
 pub fn pool_over_seeds(rows: &[Row]) -> Vec<OverSeeds<'_>> {
-    let mut groups: Vec<(At, Vec<&Row>)> = Vec::new();
-    let mut index: std::collections::HashMap<At, usize> = std::collections::HashMap::new();
+    let mut groups: Vec<(GridPosition, Vec<&Row>)> = Vec::new();
+    let mut index: std::collections::HashMap<GridPosition, usize> =
+        std::collections::HashMap::new();
     for r in rows {
         let at = r.at.without_seed();
         match index.get(&at) {

@@ -181,7 +181,7 @@ pub fn rows_csv(rows: &[Row]) -> String {
 /// The rows whose id is a point of `spec`'s grid, each given that point's
 /// position [`Row::at`] (not stored: the id is).
 pub fn on_grid(spec: &SweepSpec, rows: Vec<Row>) -> Vec<Row> {
-    let at: std::collections::BTreeMap<String, crate::sweep::At> =
+    let at: std::collections::BTreeMap<String, crate::sweep::GridPosition> =
         spec.points().iter().map(|p| (p.id(), p.at)).collect();
     rows.into_iter()
         .filter_map(|mut r| {

@@ -3,11 +3,12 @@
 
 use std::fmt::Write as _;
 
-mod answer;
+mod first_screen;
 mod growth;
 mod paper;
 mod runs;
 
+use super::plan::CaseDiscretisation;
 use super::ReportData;
 use crate::charts::class_hex;
 use crate::format::fmt_num;
@@ -16,7 +17,7 @@ use crate::sweep::Class;
 /// A figure as written: its SVG file, the CSV behind it, and its text.
 pub struct Figure {
     /// The section it belongs to.
-    pub id: &'static str,
+    pub id: String,
     pub svg_file: String,
     pub csv_files: Vec<String>,
     pub svg: String,
@@ -117,14 +118,17 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
     );
     h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#growth\">growth map</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
 
-    answer::answer(&mut h, d, figures);
+    first_screen::first_screen(&mut h, d, figures);
     runs::verdicts(&mut h, d);
     paper::table1(&mut h, d);
     paper::table2(&mut h, d);
     runs::c0_by_rule(&mut h, d);
     paper::square_section(&mut h, &d.infos);
-    h.push_str(&figures_html(figures, "stability_square"));
-    h.push_str(&figures_html(figures, "stability_square_perturbed"));
+    for case in d.config.cases() {
+        if case.disc == CaseDiscretisation::Square {
+            h.push_str(&figures_html(figures, &case.figure_id()));
+        }
+    }
     runs::figure4(&mut h, d, figures);
     runs::speed(&mut h, d, figures);
     runs::maps(&mut h, d, figures);

@@ -7,6 +7,7 @@ use super::{class_cell, esc, figures_html, num, sci, Figure};
 use crate::charts::class_hex;
 use crate::config::C0Rule;
 use crate::problem::cost::DtLimit;
+use crate::report::plan::Case;
 use crate::report::tables::C0Compare;
 use crate::report::ReportData;
 use crate::sweep::Class;
@@ -22,8 +23,8 @@ pub(super) fn verdicts(h: &mut String, d: &ReportData) {
             esc(&v.kernel),
             esc(&v.summary)
         );
-        super::answer::at_re_html(h, &v.at_re);
-        super::answer::cases(h, d, &v.kernel);
+        super::first_screen::at_re_html(h, &v.at_re);
+        super::first_screen::cases(h, d, &v.kernel);
         h.push_str("</div>\n");
     }
 }
@@ -110,7 +111,7 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
         class_hex(Class::OverCompressed),
         class_hex(Class::Failed)
     );
-    h.push_str(&figures_html(figures, "stability"));
+    h.push_str(&figures_html(figures, &Case::PAPER.figure_id()));
     let _ = writeln!(
         h,
         "<h3 id=\"maps-perturbed\">Perturbed starts</h3>\n<p>The same maps from starts jittered by up to {} d ({} seeds each), at Re in {{{}}}: each cell the class of its seeds pooled (failed if one failed, otherwise judged on the seeds' mean window statistics, docs/stationary.md); ringed, the empirical c0 of the disordered regime.</p>",
@@ -118,7 +119,7 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
         c.perturbed.seeds,
         c.perturbed.re.iter().map(|r| num(*r)).collect::<Vec<_>>().join(", ")
     );
-    h.push_str(&figures_html(figures, "stability_perturbed"));
+    h.push_str(&figures_html(figures, &Case::PAPER_PERTURBED.figure_id()));
     if figures.iter().any(|f| f.id == "failure") {
         h.push_str("<h3 id=\"failures\">Where the method fails</h3>\n<p>Per kernel, the first run of its stability map that the solver stopped (first in grid order; of the perturbed map, its worst seed, when none on the perfect lattice failed), run again with the same scene and drawn at the failure: fluid particles coloured by the compaction eps, walls grey, the particle that triggered the failure ringed in red.</p>\n");
         h.push_str(&figures_html(figures, "failure"));

@@ -6,11 +6,11 @@ use std::fmt::Write as _;
 
 use super::{esc, num, Figure};
 use crate::report::verdict::VerdictAtRe;
-use crate::report::{answer, ReportData};
+use crate::report::{first_screen, ReportData};
 
 /// The answer first: per kernel its picture and, per Re, which rules were
 /// sufficient, which necessary and what each cost.
-pub(super) fn answer(h: &mut String, d: &ReportData, figures: &[Figure]) {
+pub(super) fn first_screen(h: &mut String, d: &ReportData, figures: &[Figure]) {
     let c = &d.config;
     h.push_str("<h2 id=\"answer\">The answer: c0 by every rule against the solver</h2>\n");
     let _ = writeln!(
@@ -33,7 +33,7 @@ pub(super) fn answer(h: &mut String, d: &ReportData, figures: &[Figure]) {
                 esc(&f.svg_file)
             );
         }
-        for a in answer::answers(d, ki) {
+        for a in first_screen::answers(d, ki) {
             let _ = writeln!(h, "<p><b>Re = {}</b>:</p><ul>", num(a.re));
             for s in &a.sentences {
                 let _ = writeln!(h, "<li>{}</li>", esc(s));

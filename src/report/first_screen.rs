@@ -13,9 +13,6 @@ use crate::charts::{Band, RuleMark, RulesPanel};
 use crate::format::fmt_num;
 use crate::sweep::Class;
 
-/// The paper's discretisation, perturbed: the first screen's second case.
-const PERTURBED: Case = Case::ALL[1];
-
 /// One rule at one Re on the paper's discretisation, perfect and perturbed.
 struct RuleAt<'a> {
     perfect: &'a C0Compare,
@@ -52,7 +49,7 @@ fn rules_at<'a>(d: &'a ReportData, ki: usize, ri: usize) -> Vec<RuleAt<'a>> {
     at(Case::PAPER)
         .map(|perfect| RuleAt {
             perfect,
-            perturbed: at(PERTURBED).find(|p| p.rule == perfect.rule),
+            perturbed: at(Case::PAPER_PERTURBED).find(|p| p.rule == perfect.rule),
         })
         .collect()
 }
@@ -91,7 +88,7 @@ pub fn panels(d: &ReportData, ki: usize) -> Vec<RulesPanel> {
                 })
                 .collect(),
             perfect: band(empirical_at(d, ki, ri, Case::PAPER)),
-            perturbed: band(empirical_at(d, ki, ri, PERTURBED)),
+            perturbed: band(empirical_at(d, ki, ri, Case::PAPER_PERTURBED)),
         })
         .collect()
 }
@@ -125,7 +122,7 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
     let rules = rules_at(d, ki, ri);
     let (perfect, perturbed) = (
         empirical_at(d, ki, ri, Case::PAPER),
-        empirical_at(d, ki, ri, PERTURBED),
+        empirical_at(d, ki, ri, Case::PAPER_PERTURBED),
     );
     let ok_c0 = |e: Option<&Empirical>| e.and_then(|e| e.c0_over_u);
     let (e_perfect, e_perturbed) = (ok_c0(perfect), ok_c0(perturbed));
