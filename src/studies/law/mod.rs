@@ -24,9 +24,9 @@ use crate::problem::channel::Channel;
 use crate::problem::cost::Estimate;
 use fit::{least_squares, Fit};
 
-/// The law's sweep (src/law/law.toml).
+/// The law's sweep (src/studies/law/law.toml).
 pub const DEFAULT_CONFIG: &str = include_str!("law.toml");
-/// `--quick`'s (src/law/quick.toml).
+/// `--quick`'s (src/studies/law/quick.toml).
 pub const QUICK_CONFIG: &str = include_str!("quick.toml");
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -105,12 +105,12 @@ impl LawConfig {
     }
 
     pub fn default_full() -> LawConfig {
-        LawConfig::parse(DEFAULT_CONFIG, "src/law/law.toml")
+        LawConfig::parse(DEFAULT_CONFIG, "src/studies/law/law.toml")
             .expect("the embedded law config is valid")
     }
 
     pub fn quick() -> LawConfig {
-        LawConfig::parse(QUICK_CONFIG, "src/law/quick.toml")
+        LawConfig::parse(QUICK_CONFIG, "src/studies/law/quick.toml")
             .expect("the embedded quick config is valid")
     }
 
@@ -458,8 +458,8 @@ mod tests {
     fn every_shipped_law_config_parses() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut files = vec![
-            root.join("src/law/law.toml"),
-            root.join("src/law/quick.toml"),
+            root.join("src/studies/law/law.toml"),
+            root.join("src/studies/law/quick.toml"),
         ];
         for e in std::fs::read_dir(root.join("docs/law")).unwrap() {
             let path = e.unwrap().path();

@@ -1,7 +1,7 @@
 //! The ordered lattice beside the answer: per kernel on the paper's
 //! discretisation at the maps' N and alpha, at each verdict Re, the growth
 //! rate of perturbations of the perfect sheared lattice (`shearsph
-//! stability`'s analysis, src/stability/) at the kernel's derived c0 and at
+//! stability`'s analysis, src/studies/stability/) at the kernel's derived c0 and at
 //! rule10's, and when a 1e-4 d jitter disorders it: how long the derived
 //! rules' premise, the ordered lattice, lasts in a run.
 

@@ -171,12 +171,12 @@ impl ReportConfig {
     }
 
     pub fn default_full() -> ReportConfig {
-        ReportConfig::parse(DEFAULT_CONFIG, "src/report/report.toml")
+        ReportConfig::parse(DEFAULT_CONFIG, "src/studies/report/report.toml")
             .expect("the embedded report config is valid")
     }
 
     pub fn quick() -> ReportConfig {
-        ReportConfig::parse(QUICK_CONFIG, "src/report/quick.toml")
+        ReportConfig::parse(QUICK_CONFIG, "src/studies/report/quick.toml")
             .expect("the embedded quick config is valid")
     }
 

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use super::{Scene, SceneError};
 
-/// The built-in scene (src/default_scene.toml).
-pub const DEFAULT_SCENE: &str = include_str!("../default_scene.toml");
+/// The built-in scene (src/model/config/default_scene.toml).
+pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
 
 /// Lay `over` onto `base` field by field. `re` and `p` are alternatives:
 /// setting one drops the other from below.
