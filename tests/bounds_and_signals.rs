@@ -397,7 +397,7 @@ fn meaningless_results_are_refused_before_any_run() {
     assert!(!run.exists());
     // The report's config: maps.n = 0 and a value twice, at once.
     let quick = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/report/quick.toml"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/studies/report/quick.toml"),
     )
     .unwrap();
     for (from, to, says) in [
@@ -424,9 +424,10 @@ fn meaningless_results_are_refused_before_any_run() {
         assert!(!run.exists());
     }
     // The law's and the bench's lists refuse a value twice, as a sweep's.
-    let law =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/law/quick.toml"))
-            .unwrap();
+    let law = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/studies/law/quick.toml"),
+    )
+    .unwrap();
     let file = tmp.path().join("law.toml");
     std::fs::write(&file, law.replace("n = [6]", "n = [6, 6]")).unwrap();
     refused(
@@ -632,9 +633,10 @@ fn messages_name_the_field_and_where_it_came_from() {
         &["--margin = 1e300"],
     );
     assert!(!e.starts_with("error: invalid `max_run_s`"), "{e}");
-    let law =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/law/quick.toml"))
-            .unwrap();
+    let law = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/studies/law/quick.toml"),
+    )
+    .unwrap();
     let file = tmp.path().join("law.toml");
     std::fs::write(&file, law.replace("hi_over_u = 100.0", "hi_over_u = 1e300")).unwrap();
     refused(
@@ -725,7 +727,7 @@ proptest! {
             0 => {
                 let p = sweep(&["--jitter".into(), "0.05".into(), "--seeds".into(), v.to_string()]);
                 let r = match p {
-                    Ok(c) => c.a.spec().map(|_| ()).map_err(|e| format!("{e:#}")),
+                    Ok(c) => c.a.grid.spec().map(|_| ()).map_err(|e| format!("{e:#}")),
                     Err(e) => Err(e.to_string()),
                 };
                 ("--seeds", v, (1..=1_000).contains(&v), r)

@@ -283,7 +283,7 @@ fn the_quick_law_writes_its_points_fits_and_chart() {
         String::from_utf8_lossy(&out.stderr)
     );
     let csv = std::fs::read_to_string(dir.path().join("law.csv")).unwrap();
-    // a header and one row per point of src/law/quick.toml (1 N x 2 Re x 1 alpha)
+    // a header and one row per point of src/studies/law/quick.toml (1 N x 2 Re x 1 alpha)
     assert_eq!(csv.lines().count(), 1 + 2, "{csv}");
     assert!(csv.starts_with("kernel,n,re,alpha,c0_min_over_u,below_over_u,law_k,law_m"));
     let v: Value =

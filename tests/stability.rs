@@ -4,7 +4,7 @@
 //! property of its wavenumber, not of the strip; the rate does not depend
 //! on the finite difference's size), and its flags are guarded. The step's
 //! Jacobian against the pressure term linearised by hand is a unit test in
-//! src/solver/tangent.rs.
+//! src/model/solver/tangent.rs.
 
 mod common;
 use common::*;

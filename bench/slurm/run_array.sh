@@ -183,7 +183,7 @@ echo "+ shearsph sweep --sweep grid.toml --out single (one machine)"
 "$REAL" sweep --sweep "$GRID" --out "$W/single" --jobs 1 --quiet --no-charts
 
 # The wall-clock fields differ between any two runs of a point: left out,
-# the same list as the rows' own (Row::TIMING_FIELDS in src/sweep/row.rs).
+# the same list as the rows' own (Row::TIMING_FIELDS in src/studies/sweep/row.rs).
 echo "+ compare merged/results.jsonl with single/results.jsonl"
 python3 - "$OUT/merged/results.jsonl" "$W/single/results.jsonl" <<'PY'
 import json, sys

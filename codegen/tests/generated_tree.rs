@@ -95,7 +95,7 @@ fn added_kernel_appears_in_the_registry_and_compiles() {
         format!(
             "#[path = {:?}] pub mod kernel;\n#[allow(clippy::all)] pub mod kernels {{ include!({:?}); }}\n\
              pub fn w() -> f64 {{ use kernel::Kernel; kernels::ExtraC2::w(1.0) }}\n",
-            root().join("src/kernel.rs"),
+            root().join("src/model/kernel.rs"),
             out.join("registry.rs")
         ),
     )

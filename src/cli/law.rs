@@ -1,5 +1,5 @@
 //! `shearsph law`: the law of the minimal c0. Runs the embedded law config
-//! (src/law/law.toml; --quick the tiny one, --config a file), writes
+//! (src/studies/law/law.toml; --quick the tiny one, --config a file), writes
 //! law.csv (every point), law.json (the points and the fits) and one chart
 //! per kernel (law_KERNEL.svg), and prints each kernel's fits.
 
@@ -29,7 +29,7 @@ pub struct LawArgs {
     /// A tiny law in seconds (short runs, small grid): for tests.
     #[arg(long)]
     pub quick: bool,
-    /// A law config (TOML, as src/law/law.toml) instead of the embedded one.
+    /// A law config (TOML, as src/studies/law/law.toml) instead of the embedded one.
     #[arg(long, value_name = "FILE", conflicts_with = "quick")]
     pub config: Option<PathBuf>,
     /// Only these kernels of the config (repeatable).

@@ -60,8 +60,8 @@ pub struct SceneArgs {
     /// Smoothing length in units of d: a number (1.3) or an exact rational
     /// (13/10); with --lattice it selects a generated discretisation
     /// (kernels/discretisations.toml).
-    #[arg(long, value_parser = crate::config::parse_h_over_d)]
-    pub h_over_d: Option<f64>,
+    #[arg(long)]
+    pub h_over_d: Option<crate::config::HOverD>,
     /// Rest density.
     #[arg(long)]
     pub rho0: Option<f64>,

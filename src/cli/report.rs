@@ -29,7 +29,7 @@ pub struct ReportArgs {
     /// A tiny report in seconds (short runs, small grids): for tests.
     #[arg(long)]
     pub quick: bool,
-    /// A report config (TOML, as src/report/report.toml) instead of the
+    /// A report config (TOML, as src/studies/report/report.toml) instead of the
     /// embedded one.
     #[arg(long, value_name = "FILE", conflicts_with = "quick")]
     pub config: Option<PathBuf>,

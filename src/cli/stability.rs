@@ -1,7 +1,7 @@
 //! `shearsph stability`: the growth rate of small perturbations of a
 //! scene's sheared lattice per Bloch sector and c0, the most unstable mode
 //! and the time to disorder it predicts; with `--measure`, beside it the
-//! growth a nonlinear run from a small jitter measures (src/stability/).
+//! growth a nonlinear run from a small jitter measures (src/studies/stability/).
 
 use std::process::ExitCode;
 

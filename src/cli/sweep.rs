@@ -7,7 +7,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -17,7 +17,10 @@ use crate::charts;
 use crate::config::bounds;
 use crate::output::write_atomic;
 use crate::report;
-use crate::sweep::{self, store, Class, Origins, Parallel, Row, ShardArg, SweepSpec};
+use crate::sweep::{self, store, Class, Parallel, Row, ShardArg, SweepSpec};
+
+mod grid;
+pub use grid::{GridArgs, GridClassArgs, GridSceneArgs, SweepOrigins};
 
 /// Run a grid of scenes in parallel, or merge shard folders.
 ///
@@ -67,58 +70,8 @@ pub struct RunSweepArgs {
     /// last always) and picture under OUT/particles/POINT/ (none by default).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     pub particles_every: Option<u64>,
-    /// Sweep file (TOML).
-    #[arg(long, value_name = "FILE")]
-    pub sweep: Option<PathBuf>,
-    /// Kernels (default: every kernel).
-    #[arg(long, value_delimiter = ',')]
-    pub kernel: Vec<String>,
-    /// N values.
-    #[arg(long, value_delimiter = ',')]
-    pub n: Vec<u32>,
-    /// Reynolds numbers.
-    #[arg(long, value_delimiter = ',')]
-    pub re: Vec<f64>,
-    /// Artificial viscosity coefficients.
-    #[arg(long, value_delimiter = ',')]
-    pub alpha: Vec<f64>,
-    /// Sound speeds as rules ([F*]RULE, `shearsph run --help` lists every
-    /// rule) or numbers.
-    #[arg(long, value_delimiter = ',')]
-    pub c0: Vec<String>,
-    /// Sound speeds as multiples of U.
-    #[arg(long, value_delimiter = ',')]
-    pub c0_over_u: Vec<f64>,
-    /// Starting lattices: triangular (the paper's, default), square.
-    #[arg(long, value_delimiter = ',')]
-    pub lattice: Vec<crate::kernel::Lattice>,
-    /// h/d values, numbers or exact rationals (1, 13/10; default 1); each
-    /// lattice x h/d must be generated for every kernel.
-    #[arg(long, value_delimiter = ',')]
-    pub h_over_d: Vec<sweep::HOverDValue>,
-    /// Jitter amplitudes of the start in d (default 0: the perfect lattice).
-    #[arg(long, value_delimiter = ',')]
-    pub jitter: Vec<f64>,
-    /// Seeds per non-zero jitter amplitude (seeds 1..=K, default 3); a
-    /// perturbed point's outcome pools them (docs/stationary.md).
-    #[arg(long, value_name = "K")]
-    pub seeds: Option<u32>,
-    /// A scene file whose fields every point starts from (the grid's win).
-    #[arg(long, value_name = "FILE")]
-    pub scene: Option<PathBuf>,
-    /// End time of every scene (default: the start-up's decay time).
-    #[arg(long)]
-    pub t_end: Option<f64>,
-    /// Tolerance for the default end time.
-    #[arg(long)]
-    pub decay_tol: Option<f64>,
-    /// L_inf error / U above which a run is `inaccurate` (default 0.05).
-    #[arg(long)]
-    pub linf_bound: Option<f64>,
-    /// Compaction above the kernel's eps0 at which a run is
-    /// `over-compressed` (default 0.01).
-    #[arg(long)]
-    pub eps_margin: Option<f64>,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Output folder.
     #[arg(long, default_value = "out/sweep")]
     pub out: PathBuf,
@@ -149,25 +102,6 @@ pub struct RunSweepArgs {
 }
 
 impl RunSweepArgs {
-    fn has_grid(&self) -> bool {
-        self.sweep.is_some()
-            || !self.kernel.is_empty()
-            || !self.n.is_empty()
-            || !self.re.is_empty()
-            || !self.alpha.is_empty()
-            || !self.c0.is_empty()
-            || !self.c0_over_u.is_empty()
-            || !self.lattice.is_empty()
-            || !self.h_over_d.is_empty()
-            || !self.jitter.is_empty()
-            || self.seeds.is_some()
-            || self.scene.is_some()
-            || self.t_end.is_some()
-            || self.decay_tol.is_some()
-            || self.linf_bound.is_some()
-            || self.eps_margin.is_some()
-    }
-
     /// Scenes at once and threads in each, checked against the threads'
     /// bound ([`bounds::threads`]) before any work: 0 of either is an error
     /// (not silently 1), and so is more than 8 threads per core in all.
@@ -186,187 +120,6 @@ impl RunSweepArgs {
             par.jobs.saturating_mul(par.threads_per_scene),
         )?;
         Ok(par)
-    }
-
-    /// Where each of the grid's values came from: the flags given, the
-    /// sweep file's fields, the `--scene` file's.
-    pub fn origins(&self) -> Result<SweepOrigins> {
-        let read = |path: &Path, what: &str| -> Result<toml::Table> {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {what} {}", path.display()))?;
-            text.parse().map_err(|e: toml::de::Error| {
-                anyhow::anyhow!("{what} {}: {}", path.display(), e.message().trim())
-            })
-        };
-        let mut flags = Vec::new();
-        let mut given = |field: &'static str, yes: bool| {
-            if yes {
-                flags.push(field);
-            }
-        };
-        given("kernels", !self.kernel.is_empty());
-        given("n", !self.n.is_empty());
-        given("re", !self.re.is_empty());
-        given("alpha", !self.alpha.is_empty());
-        given("c0", !self.c0.is_empty());
-        given("c0_over_u", !self.c0_over_u.is_empty());
-        given("lattice", !self.lattice.is_empty());
-        given("h_over_d", !self.h_over_d.is_empty());
-        given("jitter", !self.jitter.is_empty());
-        given("seeds", self.seeds.is_some());
-        given("classes.linf_bound", self.linf_bound.is_some());
-        given("classes.eps_margin", self.eps_margin.is_some());
-        given("scene.t_end", self.t_end.is_some());
-        given("scene.decay_tol", self.decay_tol.is_some());
-        Ok(SweepOrigins {
-            flags,
-            file: match &self.sweep {
-                Some(p) => Some((p.clone(), read(p, "sweep file")?)),
-                None => None,
-            },
-            scene_file: match &self.scene {
-                Some(p) => Some((p.clone(), read(p, "scene file")?)),
-                None => None,
-            },
-        })
-    }
-
-    /// The sweep the flags and file give, or `None` for "the folder's own".
-    pub fn spec(&self) -> Result<Option<SweepSpec>> {
-        if !self.has_grid() {
-            return Ok(None);
-        }
-        let origins = self.origins()?;
-        let mut spec = match &self.sweep {
-            Some(path) => {
-                let text = std::fs::read_to_string(path)
-                    .with_context(|| format!("reading sweep file {}", path.display()))?;
-                SweepSpec::from_toml(&text, &format!("sweep file {}", path.display()))?
-            }
-            None => SweepSpec::default(),
-        };
-        let mut set = |flag: bool, f: &mut dyn FnMut(&mut SweepSpec)| {
-            if flag {
-                f(&mut spec);
-            }
-        };
-        set(!self.kernel.is_empty(), &mut |s| {
-            s.kernels = self.kernel.clone()
-        });
-        set(!self.n.is_empty(), &mut |s| s.n = self.n.clone());
-        set(!self.re.is_empty(), &mut |s| s.re = self.re.clone());
-        set(!self.alpha.is_empty(), &mut |s| {
-            s.alpha = self.alpha.clone()
-        });
-        set(
-            !self.c0.is_empty() || !self.c0_over_u.is_empty(),
-            &mut |s| {
-                s.c0 = self.c0.clone();
-                s.c0_over_u = self.c0_over_u.clone();
-            },
-        );
-        set(!self.lattice.is_empty(), &mut |s| {
-            s.lattice = self.lattice.clone()
-        });
-        set(!self.h_over_d.is_empty(), &mut |s| {
-            s.h_over_d = self.h_over_d.clone()
-        });
-        set(!self.jitter.is_empty(), &mut |s| {
-            s.jitter = self.jitter.clone()
-        });
-        if let Some(k) = self.seeds {
-            spec.seeds = k;
-        }
-        if let Some(path) = &self.scene {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading scene file {}", path.display()))?;
-            let table: toml::Table = text
-                .parse()
-                .with_context(|| format!("scene file {}", path.display()))?;
-            crate::config::overlay(&mut spec.scene, table);
-        }
-        if let Some(t) = self.t_end {
-            spec.scene.insert("t_end".into(), toml::Value::Float(t));
-        }
-        if let Some(t) = self.decay_tol {
-            spec.scene.insert("decay_tol".into(), toml::Value::Float(t));
-        }
-        if let Some(b) = self.linf_bound {
-            spec.classes.linf_bound = b;
-        }
-        if let Some(m) = self.eps_margin {
-            spec.classes.eps_margin = m;
-        }
-        Ok(Some(spec.resolved_as(&origins)?))
-    }
-}
-
-/// Where a sweep's values came from: the grid's fields given as flags, the
-/// sweep file's and the `--scene` file's tables (see [`Origins`]).
-#[derive(Debug, Default)]
-pub struct SweepOrigins {
-    /// Grid fields (`n`, `classes.linf_bound`, `scene.t_end`) set by a flag.
-    flags: Vec<&'static str>,
-    file: Option<(PathBuf, toml::Table)>,
-    scene_file: Option<(PathBuf, toml::Table)>,
-}
-
-impl SweepOrigins {
-    fn flag(&self, field: &str) -> bool {
-        self.flags.contains(&field)
-    }
-
-    /// Whether the sweep file has `field` (`n`, `classes.linf_bound`,
-    /// `scene.gamma`).
-    fn in_file(&self, field: &str) -> Option<&Path> {
-        let (path, table) = self.file.as_ref()?;
-        let mut t = table;
-        let mut parts = field.split('.').peekable();
-        while let Some(part) = parts.next() {
-            let v = t.get(part)?;
-            if parts.peek().is_none() {
-                return Some(path);
-            }
-            t = v.as_table()?;
-        }
-        None
-    }
-}
-
-impl Origins for SweepOrigins {
-    fn grid(&self, field: &str) -> String {
-        let flag = sweep::grid_flag(field);
-        if self.flag(field) {
-            format!("flag --{flag}")
-        } else if let Some(path) = self.in_file(field) {
-            format!("sweep file {}, field `{field}`", path.display())
-        } else {
-            format!("sweep field `{field}`, by default (flag --{flag})")
-        }
-    }
-
-    fn scene(&self, field: &str) -> String {
-        if self.flag(&format!("scene.{field}")) {
-            format!("flag --{}", field.replace('_', "-"))
-        } else if let Some((path, _)) = self
-            .scene_file
-            .as_ref()
-            .filter(|(_, t)| t.contains_key(field))
-        {
-            format!("scene file {} (--scene), field `{field}`", path.display())
-        } else if let Some(path) = self.in_file(&format!("scene.{field}")) {
-            format!("sweep file {}, field `scene.{field}`", path.display())
-        } else {
-            format!("the base scene's `{field}`, by default")
-        }
-    }
-
-    fn scene_table(&self) -> String {
-        match (&self.file, &self.scene_file) {
-            (_, Some((p, _))) => format!("the base scene (scene file {}, --scene)", p.display()),
-            (Some((p, _)), None) => format!("sweep file {}, table [scene]", p.display()),
-            _ => "the base scene".into(),
-        }
     }
 }
 
@@ -410,8 +163,8 @@ pub fn main(args: SweepArgs) -> Result<ExitCode> {
 fn run(args: RunSweepArgs) -> Result<ExitCode> {
     // Every count and value before any work.
     let par = args.parallel()?;
-    let spec = args.spec()?;
-    let origins = args.origins()?;
+    let spec = args.grid.spec()?;
+    let origins = args.grid.origins()?;
     let stop = stop_on_ctrl_c()?;
     let bar = scenes_bar(args.quiet);
     let r = sweep::run_sweep(
