@@ -110,6 +110,7 @@ import argparse
 import json
 import math
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -381,9 +382,9 @@ def main():
     ap.add_argument("--window-from", type=float, required=True)
     ap.add_argument("--eps-limit", type=float, default=0.2)
     ap.add_argument("--timeseries")
-    ap.add_argument("--out", default="/tmp/pysph-c0")
+    ap.add_argument("--out", help="PySPH's output folder (default: a new temporary one)")
     a = ap.parse_args()
-    app = Channel(a, fname="c0", output_dir=a.out)
+    app = Channel(a, fname="c0", output_dir=a.out or tempfile.mkdtemp(prefix="pysph-c0-"))
     app.setup(["--disable-output", "-q"])
     start = time.perf_counter()
     app.solve()

@@ -40,19 +40,22 @@ if [ "${ANSWERS:-1}" != 0 ]; then
 fi
 
 # PySPH's compaction bound per scheme, 3 seeds pooled, to 10 %: the matched
-# scheme from the bracket its ladder gives, TVF from 10 U (Re 10) and from
-# 10 U / sqrt(10) (Re 1: 10 U is far from the bound there)
+# scheme from the bracket its ladder gives (31.6228 U, shearsph's answer, and
+# 56.2 U at Re 1; 10 U and 11.5518 U at Re 10), TVF from 10 U as shearsph's
+# search starts
 python3 "$HERE/pysph_c0_bisect.py" "$OUT" --re 10 --scheme matched --bracket 10 11.5518 | tee "$OUT/bisect-matched-re10.txt"
 python3 "$HERE/pysph_c0_bisect.py" "$OUT" --re 1 --scheme matched --bracket 31.6228 56.2 | tee "$OUT/bisect-matched-re1.txt"
 python3 "$HERE/pysph_c0_bisect.py" "$OUT" --re 10 --scheme tvf --first 10 | tee "$OUT/bisect-tvf-re10.txt"
-python3 "$HERE/pysph_c0_bisect.py" "$OUT" --re 1 --scheme tvf --first 3.1623 | tee "$OUT/bisect-tvf-re1.txt"
+python3 "$HERE/pysph_c0_bisect.py" "$OUT" --re 1 --scheme tvf --first 10 | tee "$OUT/bisect-tvf-re1.txt"
 
 # the time to disorder of a 0.001 d jitter at 10 U, in every code
 bash "$HERE/pysph_c0_disorder.sh" 1 10 0.001 500 | tee "$OUT/disorder-re1.txt"
 bash "$HERE/pysph_c0_disorder.sh" 10 10 0.001 500 | tee "$OUT/disorder-re10.txt"
 
-# TVF with one of its differences switched off: no background pressure
+# TVF with one of its differences switched off, at 10 U, seed 1: no
+# background pressure (both Re); the cubic spline instead of the quintic (Re 10)
 SCHEMES=tvf_pb0 RES="1 10" C0S=10 SEEDS=1 TABLE=0 bash "$HERE/pysph_c0.sh"
+SCHEMES=tvf_cubic RES=10 C0S=10 SEEDS=1 TABLE=0 bash "$HERE/pysph_c0.sh"
 
 # the ladder: shearsph's answer x {1/2, 1, 2} and 10 U, jittered (seeds 1, 2)
 # and perfect (seed 0) starts, both schemes

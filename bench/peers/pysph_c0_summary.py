@@ -35,8 +35,10 @@ def shearsph_answer(out, re_):
     m = re.search(r"the compaction needs c0 >= ([0-9.]+) U, where the mean flow is off by ([0-9.e-]+) U",
                   text)
     ok = "no c0 from" not in text
-    below = re.search(r"\n\s+([0-9.]+): [^|]*\| over-compressed[^\n]*\n\s+%s" % "", text)
-    return dict(c0=float(m.group(1)), linf=float(m.group(2)), ok=ok) if m else None
+    lw = re.search(r"disordered law: [^\n]*k = ([0-9.e-]+) [^\n]*m = ([0-9.e-]+) [^\n]*?(\d+ trials, c0 = [^)]*)\)",
+                   text)
+    return dict(c0=float(m.group(1)), linf=float(m.group(2)), ok=ok,
+                law=lw.groups() if lw else None) if m else None
 
 
 def main():
@@ -66,15 +68,27 @@ def main():
                 ratio = c / sh["c0"]
                 print("    PySPH-%s / shearsph = %.3f: %s within a factor 1.5" % (
                     scheme, ratio, "agree" if 1 / 1.5 <= ratio <= 1.5 else "do NOT agree"))
-        for code in ["shearsph"] + ["pysph-" + s for s in SCHEMES]:
-            f = table.law(runs, code, re_)
+        if sh and sh.get("law"):
+            print("law shearsph       eps_stat - eps0 = %s (U/c0)^%s over c0 --empirical's own trials (%s)"
+                  % sh["law"])
+        # each code's law over its own jittered c0s; shearsph's and the
+        # matched scheme's also over the c0s both ran (the same rungs)
+        both = {r["c0"] for r in runs if r["re"] == re_ and r["code"] == "pysph-matched" and r["seed"] > 0}
+        every = {r["c0"] for r in runs if r["re"] == re_ and r["code"] == "shearsph" and r["seed"] > 0}
+        for code, only, what in (("shearsph", both, "the matched scheme's c0s"),
+                                 ("pysph-matched", both, "its c0s"),
+                                 ("shearsph", None, "every c0 it ran here"),
+                                 ("pysph-tvf", None, "its c0s")):
+            if code == "shearsph" and only is None and every == both:
+                continue
+            f = table.law(runs, code, re_, only)
             if f:
                 k, m, cs = f
-                print("law %-14s eps_stat - eps0 = %.3g (U/c0)^%.3g (c0/U = %s); c0 for 0.01: %.3g U" % (
-                    code, k, m, ",".join("%.4g" % c for c in cs), (k / 0.01) ** (1 / m)))
+                print("law %-14s eps_stat - eps0 = %.3g (U/c0)^%.3g over %s (c0/U = %s); c0 for 0.01: %.3g U" % (
+                    code, k, m, what, ",".join("%.4g" % c for c in cs), (k / 0.01) ** (1 / m)))
             else:
-                print("law %-14s not fitted: fewer than two jittered c0s disordered with an excess "
-                      ">= max(1e-3, eps0)" % code)
+                print("law %-14s not fitted over %s: fewer than two jittered c0s disordered with an excess "
+                      ">= max(1e-3, eps0)" % (code, what))
         for path in sorted(glob.glob(os.path.join(out, "disorder-shearsph-re%g-c*-s1.json" % re_))):
             tag = re.search(r"disorder-shearsph-(.*)\.json$", path).group(1)
             s = json.load(open(path))
@@ -93,16 +107,27 @@ def main():
             for c0 in sorted({r["c0"] for r in runs if r["re"] == re_ and r["code"] == "pysph-" + v}):
                 for perfect in (False, True):
                     pv = table.pooled(runs, "pysph-" + v, re_, c0, perfect)
-                    pt = table.pooled(runs, "pysph-tvf", re_, c0, perfect)
-                    pm = table.pooled(runs, "pysph-matched", re_, c0, perfect)
                     if not pv:
                         continue
+                    same = [r["seed"] for r in pv["runs"]]  # the others on the same starts
+                    pt = table.pooled(runs, "pysph-tvf", re_, c0, perfect, same)
+                    pm = table.pooled(runs, "pysph-matched", re_, c0, perfect, same)
+                    ps = table.pooled(runs, "shearsph", re_, c0, perfect, same)
                     seeds = ",".join(str(r["seed"]) for r in pv["runs"])
-                    print("switch: %s, c0 %g U, %s: eps_stat %.4g, linf %.3g (%s); TVF %s; matched %s" % (
-                        what, c0, "perfect lattice" if perfect else "seeds " + seeds,
-                        pv["eps"], pv["linf"], pv["cls"],
-                        "%.4g, %.3g" % (pt["eps"], pt["linf"]) if pt else "-",
-                        "%.4g, %.3g" % (pm["eps"], pm["linf"]) if pm else "-"))
+                    def el(p):
+                        return ("eps_stat %.4g, linf %.3g, t_disorder %s" % (
+                            p["eps"], p["linf"], "/".join("%.0f" % r["t_disorder"] if r["t_disorder"]
+                                                          is not None else "-" for r in p["runs"]))
+                                if p else "-")
+                    print("switch: %s, c0 %g U, %s:\n    switched %s (%s)\n    TVF %s\n    matched %s\n"
+                          "    shearsph %s" % (
+                              what, c0, "perfect lattice" if perfect else "seed " + seeds,
+                              el(pv), pv["cls"], el(pt), el(pm), el(ps)))
+                    if pt and ps:
+                        print("    eps_stat / shearsph's on the same start: TVF %.3g, switched %.3g; class: TVF %s, "
+                              "switched %s, shearsph %s" % (
+                                  pt["eps"] / ps["eps"], pv["eps"] / ps["eps"], pt["cls"], pv["cls"],
+                                  ps["cls"]))
         print()
 
 

@@ -88,11 +88,13 @@ def classify(eps, linf, bound, failed):
     return "ok"
 
 
-def pooled(runs, code, re_, c0, perfect=False):
+def pooled(runs, code, re_, c0, perfect=False, seeds=None):
     """The runs of one code, Re and c0 (seeds >= 1 pooled, or the perfect
-    lattice), with the pooled eps_stat, linf_stat and class; None if none."""
+    lattice; only `seeds` if given), with the pooled eps_stat, linf_stat and
+    class; None if none."""
     rs = sorted((r for r in runs if r["code"] == code and r["re"] == re_ and r["c0"] == c0
-                 and (r["seed"] == 0) == perfect), key=lambda r: r["seed"])
+                 and (r["seed"] == 0) == perfect and (seeds is None or r["seed"] in seeds)),
+                key=lambda r: r["seed"])
     if not rs:
         return None
     e = mean(r["eps_stat"] for r in rs)
@@ -107,10 +109,13 @@ CODES = ["shearsph", "pysph-matched", "pysph-tvf", "pysph-tvf_pb0", "pysph-tvf_c
          "pysph-tvf_walls"]
 
 
-def law(runs, code, re_):
-    """(k, m, c0s) of the code's disordered law at Re, or None."""
+def law(runs, code, re_, only=None):
+    """(k, m, c0s) of the code's disordered law at Re (over the c0s in
+    `only` if given), or None."""
     pts = []
     for c0 in sorted({r["c0"] for r in runs if r["re"] == re_}):
+        if only is not None and c0 not in only:
+            continue
         p = pooled(runs, code, re_, c0)
         if p and p["disordered"] and not p["failed"] and p["eps"] - p["eps0"] >= max(1e-3, p["eps0"]):
             pts.append((c0, p["eps"] - p["eps0"]))
@@ -156,7 +161,7 @@ def main():
                     print("%-8g %-16s %-10.4g %-8.3g %-16s %-10.3g (%g, %g]" % (
                         c0, code, p["eps"], p["linf"], p["cls"], r["dy_rms"], r["window_from"],
                         r["window_to"]))
-        for code in codes:
+        for code in [c for c in codes if c in ("shearsph", "pysph-matched", "pysph-tvf")]:
             f = law(runs, code, re_)
             if f:
                 k, m, cs = f
