@@ -88,10 +88,16 @@ its walls, `ghost_extent` = 5 layers of wall particles). The equations, as
   dt/2 ahat, drift x += dt uhat (the particles move with uhat, not v);
   forces; kick v += dt/2 a.
 Every difference from shearsph's solver (and so from the matched scheme):
-- walls: 5 layers at shearsph's wall positions (|n| = N .. N + 4; the first
-  at y = +-B as in shearsph), Adami's ghost velocity and extrapolated
-  pressure instead of fixed particles at rest with the fluid's EOS; the
-  wall's density is not summed;
+- walls and fluid rows (`--tvf-walls native`, the default): TVF's Adami
+  walls put the wall's surface half a spacing in front of the first wall
+  layer, so the same channel (|y| <= B) has 2N fluid rows at y = (k + 1/2) d,
+  k = -N..N-1 (400 particles, jittered by the same SplitMix64 stream: the
+  same numbers on other positions), and 5 wall layers from |y| = B + d/2;
+  `--tvf-walls shearsph` keeps the matched scheme's 380 particles and puts
+  the 5 layers at |n| = N .. N + 4 (TVF then sees a channel of half-width
+  B - d/2); Adami's ghost velocity and extrapolated pressure instead of
+  fixed particles at rest with the fluid's EOS; the wall's density is not
+  summed;
 - integrator: the transport-velocity leapfrog (particles advected by uhat);
 - density: the same summation (mass times the kernel sum), fluid only;
 - EOS: linear with negative pressure kept (shearsph clips it at 0);
@@ -103,8 +109,9 @@ Every difference from shearsph's solver (and so from the matched scheme):
 - no artificial viscosity (shearsph's scene: alpha 0.1);
 - kernel: the quintic spline, support 3h (shearsph: Monaghan's cubic, 2h);
 - time step: 0.25 h / (c0 + U) (the matched scheme and shearsph: 0.5).
-`--tvf-kernel cubic` (the cubic spline instead) and `--tvf-pb 0` (no
-background pressure) switch one difference off each.
+`--tvf-kernel cubic` (the cubic spline instead), `--tvf-pb 0` (no
+background pressure) and `--tvf-walls shearsph` switch one difference off
+each.
 """
 import argparse
 import json

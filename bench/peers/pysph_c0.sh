@@ -70,7 +70,8 @@ shearsph_run() {  # RE C0 SEED: shearsph's run of the scene, once (a lock per ru
   local re=$1 c0=$2 seed=$3 tag="re$1-c$2-s$3" work start=()
   exec 9> "$OUT/.lock-$tag"
   flock 9
-  if [ ! -s "$OUT/shearsph-$tag.json" ]; then
+  # (a run stopped by a signal printed `interrupted`: run it again)
+  if [ ! -s "$OUT/shearsph-$tag.json" ] || grep -q '"outcome": "interrupted"' "$OUT/shearsph-$tag.json"; then
     if [ "$seed" != 0 ]; then start=(--jitter 0.05 --jitter-seed "$seed"); fi
     work=$(mktemp -d)
     nice -n "$NICE" "$SHEARSPH" run "${SCENE[@]}" "${start[@]}" --re "$re" --c0 "$c0" \
