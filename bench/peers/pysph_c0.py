@@ -23,7 +23,7 @@ the support 2h of the last fluid layer), 2B / d = 2N columns (the strip of a
 jittered start), periodic in x.
 
 The equations (each named as in the code below; shearsph's in
-src/solver/step/):
+src/model/solver/step/):
 - SummationDensity (PySPH's own): rho_i = sum_j m_j W_ij over fluid and wall
   neighbours, self included, for fluid and wall particles alike (shearsph's
   density.rs, (11)).
@@ -138,7 +138,7 @@ MASK = (1 << 64) - 1
 
 
 def splitmix_symmetric(seed):
-    """shearsph's jitter generator (src/solver/step/state.rs): uniform in
+    """shearsph's jitter generator (src/model/solver/step/state.rs): uniform in
     [-1, 1), SplitMix64 seeded with 0x5eed5be5 ^ seed."""
     s = (0x5EED5BE5 ^ seed) & MASK
     while True:

@@ -1,5 +1,5 @@
 """PySPH's own c0_min for one scheme and Re, searched the way shearsph's
-`c0 --empirical` searches its own (src/empirical/search.rs): the smallest c0
+`c0 --empirical` searches its own (src/studies/empirical/search.rs): the smallest c0
 whose jittered seeds, pooled (the mean of their eps_stat), do not
 over-compress, eps_stat <= eps0 + 0.01; the seeds' mean linf_stat then
 says whether that c0 is also accurate (ok) or not (inaccurate), as
