@@ -41,8 +41,10 @@ max_extend = 1
 jitter = $1
 seeds = $2
 re = [1.0, 30.0]
-[square]
-re = []
+[[case]]
+id = "paper"
+lattice = "triangular"
+h_over_d = 1
 [figure4]
 n = 6
 samples = 20

@@ -5,7 +5,7 @@
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::plan::{Case, CaseDiscretisation};
+use super::cases::CaseConfig;
 use crate::kernel::KernelInfo;
 use crate::kernels;
 use crate::sweep::{ClassRules, Start};
@@ -30,18 +30,19 @@ pub struct ReportConfig {
     pub maps: MapsConfig,
     pub empirical: EmpiricalConfig,
     pub perturbed: PerturbedConfig,
-    pub square: SquareConfig,
+    /// The discretisations the report runs, the paper's first.
+    pub case: Vec<CaseConfig>,
     pub figure4: Figure4Config,
     /// A config without `[growth]` has no growth map.
     #[serde(default)]
     pub growth: GrowthConfig,
 }
 
-/// A config written before the report ran perturbed and square lattices
-/// has no `[perturbed]` or `[square]`: it gets the default report's, every
-/// map Re perturbed (0.05 d, 3 seeds) and the square lattice at the
-/// empirical c0's Re. Left alone when `[maps]` or `[empirical]` is missing
-/// (the error then names those).
+/// A config written before the report ran perturbed lattices has no
+/// `[perturbed]`: it gets the default report's, every map Re perturbed
+/// (0.05 d, 3 seeds); one written before the cases were listed gets them
+/// ([`super::cases::fill_missing_cases`]). Left alone when `[maps]` or
+/// `[empirical]` is missing (the error then names those).
 fn fill_missing_lattices(table: &mut toml::Table) {
     let re_of = |section: &str| table.get(section).and_then(|t| t.get("re")).cloned();
     let (Some(maps_re), Some(empirical_re)) = (re_of("maps"), re_of("empirical")) else {
@@ -54,11 +55,7 @@ fn fill_missing_lattices(table: &mut toml::Table) {
         t.insert("re".into(), maps_re);
         toml::Value::Table(t)
     });
-    table.entry("square").or_insert_with(|| {
-        let mut t = toml::Table::new();
-        t.insert("re".into(), empirical_re);
-        toml::Value::Table(t)
-    });
+    super::cases::fill_missing_cases(table, empirical_re);
 }
 
 /// Perturbed starts: every map point (at `re`), every rule at the verdicts'
@@ -72,17 +69,6 @@ pub struct PerturbedConfig {
     pub seeds: u32,
     /// The maps' Re run perturbed too (each one of maps.re, every
     /// empirical.re among them).
-    pub re: Vec<f64>,
-}
-
-/// The square lattice: the stability map (at `re`), the verdict rules and
-/// the empirical c0 on one square discretisation per kernel
-/// ([`super::square_discretisation`]), perfect and perturbed; none when
-/// `re` is empty.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SquareConfig {
-    /// Each one of maps.re, every empirical.re among them.
     pub re: Vec<f64>,
 }
 
@@ -180,7 +166,7 @@ impl ReportConfig {
             .expect("the embedded quick config is valid")
     }
 
-    fn check(&self) -> Result<()> {
+    pub(super) fn check(&self) -> Result<()> {
         for k in &self.kernels {
             crate::config::kernel_info(k)?;
         }
@@ -189,22 +175,8 @@ impl ReportConfig {
                 bail!("empirical.re = {re} is not one of maps.re: the empirical search is reported beside the map's row at that Re");
             }
         }
-        // The perturbed lattice is always run; the square one only when
-        // `square.re` names some Re (empty: none).
-        for (field, list, optional) in [
-            ("perturbed.re", &self.perturbed.re, false),
-            ("square.re", &self.square.re, true),
-        ] {
-            if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
-                bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
-            }
-            if optional && list.is_empty() {
-                continue;
-            }
-            if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
-                bail!("{field} lacks empirical.re = {re}: the empirical search is reported beside the map's row at that Re");
-            }
-        }
+        self.check_re_list("perturbed.re", &self.perturbed.re)?;
+        self.check_cases()?;
         let j = self.perturbed.jitter;
         if !(j > 0.0 && j < 0.5) || self.perturbed.seeds == 0 {
             bail!("perturbed.jitter must be in (0, 0.5) d and perturbed.seeds at least 1 (got {j} and {})", self.perturbed.seeds);
@@ -223,6 +195,19 @@ impl ReportConfig {
         }
         self.check_growth()?;
         self.check_counts()
+    }
+
+    /// A list of the maps' Re a part runs: each one of maps.re, every
+    /// empirical.re among them.
+    pub(super) fn check_re_list(&self, field: &str, list: &[f64]) -> Result<()> {
+        if let Some(re) = list.iter().find(|re| !self.maps.re.contains(re)) {
+            bail!("{field} = {re} is not one of maps.re: give each as one of the map's Re");
+        }
+        if let Some(re) = self.empirical.re.iter().find(|re| !list.contains(re)) {
+            bail!("{field} lacks empirical.re = {re}: the empirical search is reported beside the map's row at that Re");
+        }
+        crate::config::bounds::distinct(field, list)?;
+        Ok(())
     }
 
     /// The growth map's lists: every value a positive finite number, at
@@ -270,8 +255,6 @@ impl ReportConfig {
         distinct("maps.re", &self.maps.re)?;
         distinct("maps.c0_over_u", &self.maps.c0_over_u)?;
         distinct("empirical.re", &self.empirical.re)?;
-        distinct("perturbed.re", &self.perturbed.re)?;
-        distinct("square.re", &self.square.re)?;
         bounds::SEEDS.check("perturbed.seeds", self.perturbed.seeds.into())?;
         Count {
             min: 0,
@@ -358,19 +341,6 @@ impl ReportConfig {
         }
     }
 
-    /// The cases the report runs: the paper's discretisation perfect and
-    /// perturbed, then the square one's (unless `square.re` is empty).
-    pub fn cases(&self) -> Vec<Case> {
-        let mut discs = vec![CaseDiscretisation::Paper];
-        if !self.square.re.is_empty() {
-            discs.push(CaseDiscretisation::Square);
-        }
-        discs
-            .into_iter()
-            .flat_map(|disc| [false, true].map(|perturbed| Case { disc, perturbed }))
-            .collect()
-    }
-
     /// The perturbation in words: "jittered by 0.05 d, 3 seeds pooled".
     pub fn perturbed_label(&self) -> String {
         format!(
@@ -404,62 +374,6 @@ mod tests {
     use crate::config::C0Rule;
     use crate::report::plan::{CaseDiscretisation, Key, Role};
 
-    /// A config from before `[perturbed]` and `[square]` parses, with the
-    /// default report's choices; one that gives them keeps its own.
-    #[test]
-    fn a_config_without_the_lattice_sections_gets_the_defaults() {
-        let cut = |text: &str, section: &str| -> String {
-            let start = text.find(&format!("[{section}]")).expect(section);
-            let end = text[start + 1..]
-                .find("\n[")
-                .map_or(text.len(), |k| start + 1 + k);
-            format!("{}{}", &text[..start], &text[end..])
-        };
-        let old = cut(&cut(QUICK_CONFIG, "perturbed"), "square");
-        assert!(!old.contains("[perturbed]") && !old.contains("[square]"));
-        let c = ReportConfig::parse(&old, "old.toml").expect("an old config parses");
-        let q = ReportConfig::quick();
-        assert_eq!((c.perturbed.jitter, c.perturbed.seeds), (0.05, 3));
-        assert_eq!(c.perturbed.re, q.maps.re);
-        assert_eq!(c.square.re, q.empirical.re);
-        assert_eq!(c.maps.re, q.maps.re);
-        // The sections given are kept.
-        let mine = format!("{old}\n[square]\nre = []\n");
-        assert!(ReportConfig::parse(&mine, "mine.toml")
-            .unwrap()
-            .square
-            .re
-            .is_empty());
-    }
-
-    /// `square.re = []` runs no square lattice (as documented) and is
-    /// accepted; a list that names some Re must cover empirical.re, as
-    /// perturbed.re must.
-    #[test]
-    fn an_empty_square_re_runs_no_square_lattice() {
-        let mut c = ReportConfig::quick();
-        c.square.re.clear();
-        c.check().expect("square.re = [] is valid");
-        let plan = c.plan();
-        assert!(plan.keys.iter().flatten().all(|k| match k.role {
-            Role::Rule { disc, .. } | Role::Map { disc, .. } => disc != CaseDiscretisation::Square,
-            Role::Speed { .. } => true,
-        }));
-        let only = |re: f64| vec![re];
-        let missing = *c.empirical.re.last().expect("the quick config has one");
-        let other = *c.maps.re.iter().find(|&&r| r != missing).expect("two Re");
-        for field in ["square.re", "perturbed.re"] {
-            let mut bad = ReportConfig::quick();
-            if field == "square.re" {
-                bad.square.re = only(other);
-            } else {
-                bad.perturbed.re = only(other);
-            }
-            let err = bad.check().expect_err(field).to_string();
-            assert!(err.contains(field) && err.contains("lacks"), "{err}");
-        }
-    }
-
     #[test]
     fn embedded_configs_parse_and_cover_the_verdicts() {
         for c in [ReportConfig::default_full(), ReportConfig::quick()] {
@@ -488,7 +402,7 @@ mod tests {
                     let want = Key {
                         kernel: k,
                         role: Role::Rule {
-                            disc: CaseDiscretisation::Paper,
+                            disc: CaseDiscretisation::PAPER,
                             seed: 0,
                             re: ri,
                             rule: C0Rule::Code(&crate::config::RULE10),

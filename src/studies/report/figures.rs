@@ -103,7 +103,7 @@ pub fn rule_lines_on(
 /// for is left out).
 pub fn figure4(
     infos: &[&'static KernelInfo],
-    pick: fn(&'static KernelInfo) -> Option<&'static DiscretisationInfo>,
+    pick: impl Fn(&'static KernelInfo) -> Option<&'static DiscretisationInfo>,
     n_layers: u32,
     samples: usize,
 ) -> Result<Vec<EpsPanel>> {

@@ -10,6 +10,7 @@
 //! the loop; the verdicts are sentences built
 //! from those rows, never typed in.
 
+mod cases;
 mod config;
 mod empirical;
 mod figures;
@@ -36,14 +37,14 @@ use crate::particles::series::{picture_svg, ParticleOutput};
 use crate::solver::FailureKind;
 use crate::sweep::{self, Class, Parallel, Row};
 
+pub use cases::CaseConfig;
 pub use config::{
     EmpiricalConfig, Figure4Config, MapsConfig, ReportConfig, SpeedConfig, DEFAULT_CONFIG,
     QUICK_CONFIG,
 };
 pub use empirical::Empirical;
 pub use figures::{figure4, map_cells, papers, rule_lines};
-pub use plan::square_discretisation;
-pub use plan::{Key, Plan, Role};
+pub use plan::{Case, CaseDiscretisation, Key, Plan, Role};
 pub use tables::{C0Compare, EpsCompare, Table2Row};
 pub use verdict::Verdict;
 
@@ -67,9 +68,9 @@ pub struct ReportData {
     pub rows: Vec<Row>,
     pub empirical: Vec<Empirical>,
     pub figure4: Vec<EpsPanel>,
-    /// The same on one square discretisation per kernel
-    /// ([`square_discretisation`]).
-    pub figure4_square: Vec<EpsPanel>,
+    /// The same on every other case's discretisation: the case's id and
+    /// its panels.
+    pub figure4_cases: Vec<(String, Vec<EpsPanel>)>,
     pub table1: Vec<(String, Vec<EpsCompare>)>,
     pub table2: Vec<Table2Row>,
     pub c0_compare: Vec<C0Compare>,
@@ -165,12 +166,16 @@ pub fn run(
     ));
 
     // 3. Figure 4, tables, verdicts.
-    let figure4_square = figure4(
-        &infos,
-        square_discretisation,
-        config.figure4.n,
-        config.figure4.samples,
-    )?;
+    let mut figure4_cases = Vec::new();
+    for case in config
+        .cases()
+        .into_iter()
+        .filter(|c| c.disc.index > 0 && !c.perturbed)
+    {
+        let pick = |info| case.disc.of(info).map(|(_, on)| on);
+        let panels = figure4(&infos, pick, config.figure4.n, config.figure4.samples)?;
+        figure4_cases.push((config.case[case.disc.index].id.clone(), panels));
+    }
     let figure4 = figure4(&infos, papers, config.figure4.n, config.figure4.samples)?;
     let table1 = infos
         .iter()
@@ -205,7 +210,7 @@ pub fn run(
         rows,
         empirical,
         figure4,
-        figure4_square,
+        figure4_cases,
         table1,
         table2,
         c0_compare,

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use super::config::ReportConfig;
 use crate::config::{C0Rule, C0Spec};
-use crate::kernel::{DiscretisationInfo, KernelInfo, Lattice};
+use crate::kernel::{DiscretisationInfo, KernelInfo};
 use crate::problem::c0::all_rules_on;
 use crate::sweep::{pool_rows, Discretisation, HOverD, Point, PointC0, Row};
 
@@ -16,8 +16,7 @@ impl ReportConfig {
     /// The maps' Re (indices into maps.re) a case runs.
     fn map_res(&self, case: Case) -> Vec<usize> {
         let keep = |re: &f64| {
-            (!case.perturbed || self.perturbed.re.contains(re))
-                && (case.disc == CaseDiscretisation::Paper || self.square.re.contains(re))
+            (!case.perturbed || self.perturbed.re.contains(re)) && self.case_runs_at(case.disc, *re)
         };
         (0..self.maps.re.len())
             .filter(|&i| keep(&self.maps.re[i]))
@@ -113,45 +112,36 @@ impl ReportConfig {
     }
 }
 
-/// Which of a kernel's generated discretisations a case runs on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum CaseDiscretisation {
-    /// The paper's: triangular, h = d.
-    Paper,
-    /// The kernel's [`square_discretisation`].
-    Square,
+/// A case's discretisation: its place among the config's `[[case]]`s (0:
+/// the paper's) and the lattice kind and h/d it names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct CaseDiscretisation {
+    pub index: usize,
+    pub discretisation: Discretisation,
 }
 
 impl CaseDiscretisation {
-    /// The kernel's discretisation of this kind, as a point takes it and as
-    /// generated; `None` when none is generated.
+    /// The paper's: the first case, triangular, h = d.
+    pub const PAPER: CaseDiscretisation = CaseDiscretisation {
+        index: 0,
+        discretisation: Discretisation::PAPER,
+    };
+
+    /// The kernel's discretisation of this case, as a point takes it and as
+    /// generated; `None` when the kernel is not generated at it.
     pub fn of(
         self,
         info: &'static KernelInfo,
     ) -> Option<(Discretisation, &'static DiscretisationInfo)> {
-        let on = match self {
-            CaseDiscretisation::Paper => super::papers(info)?,
-            CaseDiscretisation::Square => super::square_discretisation(info)?,
-        };
-        let h_over_d: HOverD = on.h_over_d_exact.parse().ok()?;
-        Some((
-            Discretisation {
-                lattice: on.lattice,
-                h_over_d,
-            },
-            on,
-        ))
+        let want = self.discretisation;
+        let on = info.discretisations.iter().find(|d| {
+            d.lattice == want.lattice
+                && d.h_over_d_exact.parse::<HOverD>().ok() == Some(want.h_over_d)
+        })?;
+        Some((want, on))
     }
 
-    /// Its part of a case's file names: none for the paper's.
-    fn file_part(self) -> &'static str {
-        match self {
-            CaseDiscretisation::Paper => "",
-            CaseDiscretisation::Square => "_square",
-        }
-    }
-
-    /// The rules run at the verdicts' Re: every rule, on either
+    /// The rules run at the verdicts' Re: every rule, on any
     /// discretisation (`table2`, the paper's printed row, on the paper's
     /// only: [`all_rules_on`]).
     fn rules(self, info: &KernelInfo, on: &DiscretisationInfo) -> Vec<C0Rule> {
@@ -161,7 +151,7 @@ impl CaseDiscretisation {
 
 /// A case of the report: a discretisation and a start (perfect, or
 /// perturbed: the worst over the seeds).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Case {
     pub disc: CaseDiscretisation,
     pub perturbed: bool,
@@ -171,27 +161,14 @@ impl Case {
     /// The paper's discretisation from the perfect lattice: the report's
     /// first case, and its tables' and Figure 4's.
     pub const PAPER: Case = Case {
-        disc: CaseDiscretisation::Paper,
+        disc: CaseDiscretisation::PAPER,
         perturbed: false,
     };
     /// The paper's discretisation, perturbed: the first screen's second.
     pub const PAPER_PERTURBED: Case = Case {
-        disc: CaseDiscretisation::Paper,
+        disc: CaseDiscretisation::PAPER,
         perturbed: true,
     };
-
-    /// The suffix of its files, from its parts: "", "_perturbed",
-    /// "_square", "_square_perturbed".
-    pub fn file_suffix(self) -> String {
-        let start = if self.perturbed { "_perturbed" } else { "" };
-        format!("{}{start}", self.disc.file_part())
-    }
-
-    /// The page's figure id of its stability maps (`stability` and the
-    /// file suffix).
-    pub fn figure_id(self) -> String {
-        format!("stability{}", self.file_suffix())
-    }
 
     /// "perfect" or "perturbed".
     pub fn start_name(self) -> &'static str {
@@ -313,17 +290,4 @@ impl Plan {
         });
         (!seeds.is_empty()).then(|| pool_rows(&seeds))
     }
-}
-
-/// The square discretisation a kernel's square-lattice runs and analysis use:
-/// h = 13/10 d when generated (SPHinXsys's), else the first square one.
-pub fn square_discretisation(info: &KernelInfo) -> Option<&'static DiscretisationInfo> {
-    let square = || {
-        info.discretisations
-            .iter()
-            .filter(|d| d.lattice == Lattice::Square)
-    };
-    square()
-        .find(|d| d.h_over_d_exact == "13/10")
-        .or_else(|| square().next())
 }

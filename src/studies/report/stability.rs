@@ -58,7 +58,7 @@ pub fn ordered_all(
     }
     let mut out = Vec::new();
     for &info in infos {
-        let Some((disc, _)) = CaseDiscretisation::Paper.of(info) else {
+        let Some((disc, _)) = CaseDiscretisation::PAPER.of(info) else {
             continue;
         };
         for &re in &config.empirical.re {

@@ -81,13 +81,14 @@ fn runs(d: &ReportData, f: &Folder) -> Result<()> {
     f.put("runs.jsonl", &jsonl)
 }
 
-/// Figure 4 on the paper's discretisation and on the square ones.
+/// Figure 4 on the paper's discretisation and on every other case's.
 fn figure4(d: &ReportData, f: &mut Folder) -> Result<()> {
     let n = d.config.figure4.n;
-    for (panels, name) in [
-        (&d.figure4, "figure4"),
-        (&d.figure4_square, "figure4_square"),
-    ] {
+    let cases = d
+        .figure4_cases
+        .iter()
+        .map(|(id, panels)| (panels, format!("figure4_{id}")));
+    for (panels, name) in std::iter::once((&d.figure4, "figure4".to_string())).chain(cases) {
         let csv = format!("{name}.csv");
         f.put(&csv, &charts::figure4_csv(panels, n))?;
         f.figure(
@@ -151,12 +152,12 @@ fn maps(d: &ReportData, f: &mut Folder) -> Result<()> {
                 on.label()
             );
             let svg = charts::map_svg(&title, &cells, &lines, &marks)?;
-            let name = format!("stability_{k}{}", case.file_suffix());
+            let name = format!("stability_{k}{}", d.config.file_suffix(case));
             let (csv, lines_csv) = (format!("{name}.csv"), format!("{name}_lines.csv"));
             f.put(&csv, &charts::map_csv(k, &cells))?;
             f.put(&lines_csv, &charts::map_lines_csv(k, &lines))?;
             f.figure(
-                &case.figure_id(),
+                &d.config.figure_id(case),
                 &format!("{name}.svg"),
                 svg,
                 &[&csv, &lines_csv],

@@ -8,7 +8,6 @@ mod growth;
 mod paper;
 mod runs;
 
-use super::plan::CaseDiscretisation;
 use super::ReportData;
 use crate::charts::class_hex;
 use crate::format::fmt_num;
@@ -116,18 +115,30 @@ pub fn page(d: &ReportData, figures: &[Figure]) -> String {
         d.rows.len(),
         d.empirical.iter().filter(|e| e.case.perturbed).map(|e| e.answer.horizon.runs).sum::<usize>()
     );
-    h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · <a href=\"#square\">square lattice</a> · <a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#growth\">growth map</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
+    let cases: String = d.config.case[1..]
+        .iter()
+        .map(|c| {
+            let label = c.label.as_deref().unwrap_or(&c.id);
+            format!("<a href=\"#{}\">{}</a> · ", c.id, esc(label))
+        })
+        .collect();
+    h.push_str("<p>Contents: <a href=\"#answer\">the answer</a> · <a href=\"#verdicts\">verdicts</a> · <a href=\"#table1\">Table 1</a> · <a href=\"#table2\">Table 2</a> · <a href=\"#c0\">c0 by every rule</a> · ");
+    h.push_str(&cases);
+    h.push_str("<a href=\"#figure4\">Figure 4</a> · <a href=\"#speed\">speed against accuracy</a> · <a href=\"#maps\">stability maps</a> · <a href=\"#growth\">growth map</a> · <a href=\"#empirical\">empirical c0</a> · <a href=\"#method\">method</a> · <a href=\"#files\">files</a></p>\n");
 
     first_screen::first_screen(&mut h, d, figures);
     runs::verdicts(&mut h, d);
     paper::table1(&mut h, d);
     paper::table2(&mut h, d);
     runs::c0_by_rule(&mut h, d);
-    paper::square_section(&mut h, &d.infos);
     for case in d.config.cases() {
-        if case.disc == CaseDiscretisation::Square {
-            h.push_str(&figures_html(figures, &case.figure_id()));
+        if case.disc.index == 0 {
+            continue;
         }
+        if !case.perturbed {
+            paper::case_section(&mut h, d, case.disc);
+        }
+        h.push_str(&figures_html(figures, &d.config.figure_id(case)));
     }
     runs::figure4(&mut h, d, figures);
     runs::speed(&mut h, d, figures);

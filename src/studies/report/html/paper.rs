@@ -1,11 +1,11 @@
 //! The page's sections from the exact derivation: Tables 1 and 2 beside
-//! the print, and the same analysis on one square discretisation per kernel.
+//! the print, and the same analysis on every other case's discretisation.
 
 use std::fmt::Write as _;
 
 use super::{esc, mark, num, sci};
 use crate::kernel::KernelInfo;
-use crate::report::plan::square_discretisation;
+use crate::report::plan::CaseDiscretisation;
 use crate::report::tables::EpsCompare;
 use crate::report::ReportData;
 
@@ -126,17 +126,30 @@ pub(super) fn table2(h: &mut String, d: &ReportData) {
     }
 }
 
-/// The same analysis as Tables 1 and 2 for one square discretisation per
-/// kernel, from the generated constants: eps at 0 and 0.5 T, its true
-/// extremes and where, its mean, and the derived c0 coefficients at the
-/// configuration the search found the maximum in (or the "no c0" fact).
-pub(super) fn square_section(h: &mut String, infos: &[&'static KernelInfo]) {
-    h.push_str("<h2 id=\"square\">The square lattice: eps and the derived c0</h2>\n");
-    h.push_str("<p>The analysis of Tables 1 and 2 for the discretisation the peers run: per kernel the square lattice with h = 13/10 d (SPHinXsys) where generated, else its first square one; every row names it. From the exact derivation (<code>generated/</code>); the c0 models are derived where the search found the maximum compaction, at the time given.</p>\n");
+/// The same analysis as Tables 1 and 2 for a case's discretisation, from
+/// the generated constants: eps at 0 and 0.5 T, its true extremes and
+/// where, its mean, and the derived c0 coefficients at the configuration
+/// the search found the maximum in (or the "no c0" fact).
+pub(super) fn case_section(h: &mut String, d: &ReportData, case: CaseDiscretisation) {
+    let c = &d.config.case[case.index];
+    let infos: &[&'static KernelInfo] = &d.infos;
+    let _ = writeln!(
+        h,
+        "<h2 id=\"{}\">The {}: eps and the derived c0</h2>",
+        c.id,
+        esc(c.label.as_deref().unwrap_or(&c.id))
+    );
+    let _ = writeln!(h, "<p>The analysis of Tables 1 and 2 for {}; every row names it. From the exact derivation (<code>generated/</code>); the c0 models are derived where the search found the maximum compaction, at the time given.</p>", esc(c.about.as_deref().unwrap_or_default()));
+    let not_generated = format!(
+        "not generated at lattice = {}, h = {} d",
+        c.lattice.name(),
+        c.h_over_d
+    );
+    let generated_on = |info: &'static KernelInfo| case.of(info).map(|(_, on)| on);
     h.push_str("<table><tr><th class=\"l\">kernel</th><th class=\"l\">discretisation</th><th>eps(0)</th><th>eps(0.5T)</th><th>max eps</th><th>at t/T</th><th>min eps</th><th>at t/T</th><th>mean eps</th></tr>\n");
     for info in infos {
-        let Some(disc) = square_discretisation(info) else {
-            let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td class=\"l\" colspan=\"8\">no square discretisation generated</td></tr>", esc(info.name));
+        let Some(disc) = generated_on(info) else {
+            let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td class=\"l\" colspan=\"8\">{not_generated}</td></tr>", esc(info.name));
             continue;
         };
         let e = &disc.eps;
@@ -157,7 +170,7 @@ pub(super) fn square_section(h: &mut String, infos: &[&'static KernelInfo]) {
     h.push_str("</table>\n");
     h.push_str("<table><tr><th class=\"l\">kernel</th><th class=\"l\">discretisation</th><th class=\"l\">model</th><th>derived at t/T</th><th>eps0</th><th>S</th><th>P</th><th>Q</th></tr>\n");
     for info in infos {
-        let Some(disc) = square_discretisation(info) else {
+        let Some(disc) = generated_on(info) else {
             continue;
         };
         let c = &disc.c0_configuration;

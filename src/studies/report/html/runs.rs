@@ -111,7 +111,7 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
         class_hex(Class::OverCompressed),
         class_hex(Class::Failed)
     );
-    h.push_str(&figures_html(figures, &Case::PAPER.figure_id()));
+    h.push_str(&figures_html(figures, &d.config.figure_id(Case::PAPER)));
     let _ = writeln!(
         h,
         "<h3 id=\"maps-perturbed\">Perturbed starts</h3>\n<p>The same maps from starts jittered by up to {} d ({} seeds each), at Re in {{{}}}: each cell the class of its seeds pooled (failed if one failed, otherwise judged on the seeds' mean window statistics, docs/stationary.md); ringed, the empirical c0 of the disordered regime.</p>",
@@ -119,7 +119,10 @@ pub(super) fn maps(h: &mut String, d: &ReportData, figures: &[Figure]) {
         c.perturbed.seeds,
         c.perturbed.re.iter().map(|r| num(*r)).collect::<Vec<_>>().join(", ")
     );
-    h.push_str(&figures_html(figures, &Case::PAPER_PERTURBED.figure_id()));
+    h.push_str(&figures_html(
+        figures,
+        &d.config.figure_id(Case::PAPER_PERTURBED),
+    ));
     if figures.iter().any(|f| f.id == "failure") {
         h.push_str("<h3 id=\"failures\">Where the method fails</h3>\n<p>Per kernel, the first run of its stability map that the solver stopped (first in grid order; of the perturbed map, its worst seed, when none on the perfect lattice failed), run again with the same scene and drawn at the failure: fluid particles coloured by the compaction eps, walls grey, the particle that triggered the failure ringed in red.</p>\n");
         h.push_str(&figures_html(figures, "failure"));
