@@ -648,3 +648,21 @@ fn the_growth_map_covers_every_kernel_discretisation_re_and_c0() {
         "one row per kernel, discretisation and Re"
     );
 }
+
+/// The config the report writes beside its page reads back as a config
+/// (its `[[case]]` entries included) and is the one the report ran.
+#[test]
+fn the_written_config_reads_back() {
+    let dir = report_dir();
+    let text = std::fs::read_to_string(dir.join("report.toml")).unwrap();
+    let read = ReportConfig::parse(&text, "report.toml")
+        .unwrap_or_else(|e| panic!("the written report.toml: {e:#}"));
+    let quick = ReportConfig::quick();
+    assert_eq!(read.case.len(), quick.case.len());
+    for (a, b) in read.case.iter().zip(&quick.case) {
+        assert_eq!(
+            (a.id.as_str(), a.discretisation()),
+            (b.id.as_str(), b.discretisation())
+        );
+    }
+}

@@ -96,7 +96,7 @@ impl CaseConfig {
 }
 
 /// The default report's words for its square case.
-const SQUARE_ABOUT: &str = "the discretisation the peers run: per kernel the square lattice with h = 13/10 d (SPHinXsys) where generated, else its first square one";
+const SQUARE_ABOUT: &str = "the discretisation the peers run: the square lattice with h = 13/10 d (SPHinXsys); a kernel not generated there has no row in this case";
 
 impl ReportConfig {
     /// The cases, field by field: the paper's first, each id a distinct

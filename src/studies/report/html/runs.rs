@@ -65,7 +65,7 @@ pub(super) fn c0_by_rule(h: &mut String, d: &ReportData) {
 /// Figure 4: the generated eps against the solver's density.
 pub(super) fn figure4(h: &mut String, d: &ReportData, figures: &[Figure]) {
     // Figure 4.
-    h.push_str("<h2 id=\"figure4\">Figure 4: eps over one period (the paper's discretisation: triangular, h = d; below it the same on one square discretisation per kernel, each panel named)</h2>\n");
+    h.push_str("<h2 id=\"figure4\">Figure 4: eps over one period (the paper's discretisation: triangular, h = d; below it the same on each further case's discretisation, each panel named)</h2>\n");
     h.push_str("<p>Lines: the generated eps_at(t, n) (walls at |n| ≥ N, at rest). Dots: the solver's own density summation on particles moved exactly by the steady profile (7), no dynamics. Grey: the time mean at n = 0.</p>\n");
     let max_dev = d
         .figure4
