@@ -330,3 +330,24 @@ fn the_disordered_bench_tiles_a_disordered_base() {
         assert!(row["ok"].as_bool().unwrap(), "{row}");
     }
 }
+
+/// A disordered scene too large for the strip's columns is refused before
+/// its base runs, naming the flag and the most particles it can tile.
+#[test]
+fn the_disordered_bench_refuses_more_copies_than_the_strip_holds() {
+    let o = shearsph(&[
+        "bench",
+        "--disordered",
+        "--kernels",
+        "monaghan",
+        "--particles",
+        "2.4e6",
+        "--quiet",
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--particles 2.4e6 with --disordered") && err.contains("at most"),
+        "{err}"
+    );
+}

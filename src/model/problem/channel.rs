@@ -28,6 +28,11 @@ pub struct Channel {
 /// one stays disordered (docs/stationary.md: Monaghan, N = 10, Re = 1,
 /// 30 U: eps_stat 0.003 on 5 columns, 0.010 on 10, 0.011 on 20; at 20 U 20
 /// and 40 columns agree).
+/// The most columns a strip may have: a bound that says why, as the
+/// particle count grows with it and the memory check (check_size) sees only
+/// the narrowest.
+pub const MAX_COLUMNS: u32 = 100_000;
+
 fn disordered_columns(scene: &Scene, lattice: &LatticeGeometry) -> Option<u32> {
     let wide = scene.jitter > 0.0;
     let channel = (2.0 * lattice.b() / lattice.d * (1.0 - 1e-12)).ceil();
@@ -86,9 +91,6 @@ impl Channel {
             .columns
             .or_else(|| disordered_columns(scene, &lattice))
         {
-            // A bound that says why: the particle count grows with it and
-            // the memory check below (check_size) sees only the narrowest.
-            const MAX_COLUMNS: u32 = 100_000;
             if !(lattice.columns..=MAX_COLUMNS).contains(&c) {
                 return Err(invalid(
                     "columns",

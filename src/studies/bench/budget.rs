@@ -89,6 +89,9 @@ pub fn check(opts: &Options) -> Result<()> {
     for kernel in &opts.kernels {
         for &target in &opts.particles {
             check_memory(&scene_for(kernel, opts.disordered), target)?;
+            if opts.disordered {
+                check_tiles(kernel, target)?;
+            }
         }
     }
     let est = estimated_seconds(opts)?;
@@ -110,6 +113,28 @@ pub fn check(opts: &Options) -> Result<()> {
             crate::problem::cost::EST_S_PER_PAIR_PASS * 1e9,
             crate::problem::cost::human_seconds(MAX_BENCH_S),
             opts.particle_steps
+        );
+    }
+    Ok(())
+}
+
+/// The disordered scene of `target` particles within the strip's bound on
+/// its columns, before the base runs: it is the base tiled, so its columns
+/// grow with the particle count.
+fn check_tiles(kernel: &str, target: usize) -> Result<()> {
+    use crate::problem::channel::{Channel, MAX_COLUMNS};
+    let base = base_scene(kernel);
+    let lattice = Channel::resolve(&base, base.kernel_info()?)?.lattice;
+    let per_copy = lattice.n_particles();
+    let copies = target.div_ceil(per_copy).max(1);
+    if copies as u64 * u64::from(lattice.columns) > u64::from(MAX_COLUMNS) {
+        let most = u64::from(MAX_COLUMNS / lattice.columns) * per_copy as u64;
+        bail!(
+            "--particles {} with --disordered: the disordered scene of kernel {kernel} is its base ({per_copy} \
+             particles on {} columns) tiled {copies} times, over the strip's bound of {MAX_COLUMNS} columns \
+             (at most {most} particles); give fewer particles",
+            crate::format::fmt_value(target as f64),
+            lattice.columns
         );
     }
     Ok(())
