@@ -37,7 +37,7 @@
 use crate::compaction::{FloatRadial, Known};
 use crate::exact::{decimal, Exact, Ratio};
 use crate::kernel::Radial;
-use crate::lattice::{stencil, Config, Discretisation, Neighbour};
+use crate::lattice::{stencil, Config, Discretisation, ExactLattice, Neighbour};
 use rug::{Float, Rational};
 
 /// Which neighbours carry the compaction term c0^2 eps0 at maximum

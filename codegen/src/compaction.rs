@@ -8,7 +8,9 @@
 
 use crate::exact::{decimal, Exact};
 use crate::kernel::Radial;
-use crate::lattice::{layer_speed, max_layer_offset, row_reach, stencil, Config, Discretisation};
+use crate::lattice::{
+    layer_speed, max_layer_offset, row_reach, stencil, Config, Discretisation, ExactLattice,
+};
 use crate::poly::Poly;
 use rug::{Float, Rational};
 

@@ -4,14 +4,14 @@
 //!
 //! ```toml
 //! [[discretisation]]
-//! lattice = "square"      # "triangular" or "square"
+//! lattice = "square"      # a kind of shearsph-lattice: "triangular" or "square"
 //! h_over_d = "13/10"      # a positive rational up to 4: an integer or a string "13/10", "1.3";
 //!                         # denominator at most 1000 (kernel::MAX_DENOMINATOR)
 //! note = "SPHinXsys"      # optional, for the reader
 //! ```
 
 use crate::kernel::{denominator_problem, line_col, KernelError, MAX_DENOMINATOR};
-use crate::lattice::{Discretisation, LatticeKind};
+use crate::lattice::{Discretisation, Lattice};
 use crate::poly::parse_rational;
 use rug::Rational;
 use serde::Deserialize;
@@ -40,6 +40,15 @@ struct Entry {
     note: Option<String>,
 }
 
+/// Every lattice kind by name, with the paper's marked and its geometry:
+/// `"triangular" (the paper's: dy = ...) or "square" (dy = d)`.
+fn kinds_with_geometry() -> String {
+    Lattice::listed(" or ", |l| {
+        let papers = if l.is_papers() { "the paper's: " } else { "" };
+        format!("{:?} ({papers}{})", l.name(), l.kind().geometry)
+    })
+}
+
 /// Reads and validates the file's text; the paper's discretisation comes
 /// first, then the file's in order, duplicates removed.
 pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError> {
@@ -57,17 +66,20 @@ pub fn parse(file: &Path, src: &str) -> Result<Vec<Discretisation>, KernelError>
             "discretisation".into(),
             e.span(),
             e.message().trim().to_string(),
-            "write [[discretisation]] tables with `lattice` (\"triangular\" or \"square\") and `h_over_d` (e.g. \"13/10\"), and an optional `note`",
+            &format!(
+                "write [[discretisation]] tables with `lattice` ({}) and `h_over_d` (e.g. \"13/10\"), and an optional `note`",
+                Lattice::listed(" or ", |l| format!("{:?}", l.name()))
+            ),
         )
     })?;
     let mut out = vec![Discretisation::paper()];
     for (i, e) in raw.discretisation.iter().enumerate() {
-        let lattice = LatticeKind::parse(e.lattice.get_ref()).ok_or_else(|| {
+        let lattice = Lattice::parse(e.lattice.get_ref()).ok_or_else(|| {
             err(
                 format!("discretisation[{i}].lattice"),
                 Some(e.lattice.span()),
                 format!("unknown lattice `{}`", e.lattice.get_ref()),
-                "write \"triangular\" (the paper's: dy = sqrt(3)/2 d, odd layers offset d/2) or \"square\" (dy = d)",
+                &format!("write {}", kinds_with_geometry()),
             )
         })?;
         let field = format!("discretisation[{i}].h_over_d");

@@ -1,9 +1,12 @@
 //! The lattices of the analysis, as data: a [`Discretisation`] is a lattice
 //! kind and h/d. Lengths here are in d (the particle spacing along x).
 //!
-//! - `triangular` (the paper's, section 2): layer j at y = j dy with
-//!   dy = (sqrt(3)/2) d, odd layers offset by d/2 along x.
-//! - `square` (PySPH, DualSPHysics, SPHinXsys): dy = d, no offset.
+//! The kinds are described once, in the crate `shearsph-lattice`
+//! (`lattice/`), which the solver reads too: each is a name, dy^2 (exact,
+//! rational) and the offset of its odd layers (0 or 1/2); [`ExactLattice`]
+//! turns those integers into rationals here. The paper's (section 2) is
+//! `triangular`: dy = (sqrt(3)/2) d, odd layers offset by d/2; `square`
+//! (PySPH, DualSPHysics, SPHinXsys) has dy = d and no offset.
 //!
 //! Fluid layers are |j| < N, walls |j| >= N (fixed, u = 0), B = N dy.
 //!
@@ -13,62 +16,47 @@
 //! (19)) layer j moves by (n^2 - j^2) tau (in d) relative to a particle of
 //! layer n, a wall layer by (n^2 - N^2) tau. These multipliers are integers
 //! and every layer is periodic in x with period d, so every neighbourhood is
-//! periodic with T on both lattices. The phase of layer k = j - n at tau is
+//! periodic with T on every lattice. The phase of layer k = j - n at tau is
 //! phase0(k) + (n^2 - j^2) tau (mod 1), phase0 being the initial offset. The
 //! symmetric configurations are tau = 0 and tau = 1/2: n^2 - j^2 = -k (2n + k)
 //! is odd exactly when k is, so at 1/2 odd relative layers gain an offset of
-//! 1/2 and even ones return to place; every phase is 0 or 1/2 and the
-//! neighbourhood is mirror-symmetric, with r^2 = x^2 + k^2 dy^2 rational
-//! (dy^2 = 3/4 or 1). On the triangular lattice tau = 1/2 puts every layer
-//! straight above the particle; on the square lattice it staggers the odd
-//! layers (a triangular-like arrangement).
+//! 1/2 and even ones return to place; with the odd layers' initial offset 0
+//! or 1/2 every phase is 0 or 1/2 and the neighbourhood is mirror-symmetric,
+//! with r^2 = x^2 + k^2 dy^2 rational (dy^2 is: 3/4 or 1). On the triangular
+//! lattice tau = 1/2 puts every layer straight above the particle; on the
+//! square lattice it staggers the odd layers (a triangular-like arrangement).
 
 use rug::Rational;
+pub use shearsph_lattice::Lattice;
+use shearsph_lattice::Ratio;
 
-/// The kind of lattice.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum LatticeKind {
-    Triangular,
-    Square,
+/// A lattice kind's exact numbers as rationals, from the integers of its
+/// entry in `shearsph-lattice`.
+pub trait ExactLattice {
+    /// dy^2 / d^2: 3/4 or 1.
+    fn dy2(self) -> Rational;
+    /// The x offset of layer k at t = 0 relative to the particle, modulo 1.
+    fn phase0(self, k: i64) -> Rational;
 }
 
-impl LatticeKind {
-    pub fn name(self) -> &'static str {
-        match self {
-            LatticeKind::Triangular => "triangular",
-            LatticeKind::Square => "square",
-        }
+fn rational(r: Ratio) -> Rational {
+    Rational::from((r.num, r.den))
+}
+
+impl ExactLattice for Lattice {
+    fn dy2(self) -> Rational {
+        rational(self.kind().dy2)
     }
 
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "triangular" => Some(LatticeKind::Triangular),
-            "square" => Some(LatticeKind::Square),
-            _ => None,
-        }
-    }
-
-    /// dy^2 / d^2: 3/4 or 1.
-    pub fn dy2(self) -> Rational {
-        match self {
-            LatticeKind::Triangular => Rational::from((3, 4)),
-            LatticeKind::Square => Rational::from(1),
-        }
-    }
-
-    /// The x offset of layer k at t = 0 relative to the particle, modulo 1.
-    pub fn phase0(self, k: i64) -> Rational {
-        match self {
-            LatticeKind::Triangular if k.rem_euclid(2) == 1 => Rational::from((1, 2)),
-            _ => Rational::new(),
-        }
+    fn phase0(self, k: i64) -> Rational {
+        rational(self.phase(k))
     }
 }
 
 /// A lattice kind and h/d: what the analysis is derived for.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Discretisation {
-    pub lattice: LatticeKind,
+    pub lattice: Lattice,
     /// h/d, exact and positive.
     pub h: Rational,
 }
@@ -77,7 +65,7 @@ impl Discretisation {
     /// The paper's: triangular lattice, h = d.
     pub fn paper() -> Self {
         Discretisation {
-            lattice: LatticeKind::Triangular,
+            lattice: Lattice::Triangular,
             h: Rational::from(1),
         }
     }
@@ -152,7 +140,7 @@ impl Config {
     }
 
     /// The phase of layer k in this configuration, for the centre particle.
-    pub fn phase(self, lattice: LatticeKind, k: i64) -> Rational {
+    pub fn phase(self, lattice: Lattice, k: i64) -> Rational {
         let p = lattice.phase0(k);
         match self {
             Config::T0 => p,
@@ -231,7 +219,7 @@ pub fn layer_speed(n: i64, k: i64, n_layers: Option<i64>) -> i64 {
 mod tests {
     use super::*;
 
-    fn disc(lattice: LatticeKind, h: (i64, i64)) -> Discretisation {
+    fn disc(lattice: Lattice, h: (i64, i64)) -> Discretisation {
         Discretisation {
             lattice,
             h: Rational::from(h),
@@ -260,7 +248,7 @@ mod tests {
     #[test]
     fn square_r1_stencils() {
         let one = Rational::from(1);
-        let sq = disc(LatticeKind::Square, (1, 1));
+        let sq = disc(Lattice::Square, (1, 1));
         // t = 0: self + 4 at distance d
         let t0 = stencil(&sq, &one, Config::T0);
         assert_eq!(t0.len(), 5);
@@ -277,10 +265,10 @@ mod tests {
         assert_eq!(max_layer_offset(&p, &Rational::from(2)), 2);
         assert_eq!(max_layer_offset(&p, &Rational::from(3)), 3);
         assert_eq!(max_layer_offset(&p, &Rational::from((1, 2))), 0);
-        let sq = disc(LatticeKind::Square, (13, 10));
+        let sq = disc(Lattice::Square, (13, 10));
         // 2 * 1.3 = 2.6 d
         assert_eq!(max_layer_offset(&sq, &Rational::from(2)), 2);
-        let tri = disc(LatticeKind::Triangular, (3, 2));
+        let tri = disc(Lattice::Triangular, (3, 2));
         // 2 * 1.5 = 3 d, k sqrt(3)/2 <= 3: k <= 3
         assert_eq!(max_layer_offset(&tri, &Rational::from(2)), 3);
     }

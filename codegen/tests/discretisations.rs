@@ -8,7 +8,7 @@
 use shearsph_codegen::analysis::{analyse, Analysis, DiscAnalysis, Options};
 use shearsph_codegen::exact::decimal;
 use shearsph_codegen::kernel::{load_dir, parse_kernel};
-use shearsph_codegen::lattice::{Config, Discretisation, LatticeKind};
+use shearsph_codegen::lattice::{Config, Discretisation, Lattice};
 use shearsph_codegen::{discretisation, emit, show};
 use std::fmt::Write;
 use std::path::Path;
@@ -171,18 +171,18 @@ fn a_support_with_no_neighbour_is_a_stated_fact() {
 fn the_default_set_covers_the_peers_and_the_paper_comes_first() {
     let discs = discretisation::load(&root().join("kernels")).unwrap();
     assert!(discs[0].is_paper());
-    let has = |l: LatticeKind, h: (i64, i64)| {
+    let has = |l: Lattice, h: (i64, i64)| {
         discs.contains(&Discretisation {
             lattice: l,
             h: rug::Rational::from(h),
         })
     };
-    assert!(has(LatticeKind::Square, (1, 1)));
-    assert!(has(LatticeKind::Square, (13, 10)));
-    assert!(has(LatticeKind::Square, (17, 10)));
+    assert!(has(Lattice::Square, (1, 1)));
+    assert!(has(Lattice::Square, (13, 10)));
+    assert!(has(Lattice::Square, (17, 10)));
     assert!(discs
         .iter()
-        .any(|d| d.lattice == LatticeKind::Triangular && d.h > 1));
+        .any(|d| d.lattice == Lattice::Triangular && d.h > 1));
 }
 
 /// The exact forms (or stated high-precision decimals) of one kernel on one

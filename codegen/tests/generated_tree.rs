@@ -88,7 +88,30 @@ fn added_kernel_appears_in_the_registry_and_compiles() {
     assert!(registry.contains("\"extra_c2\" => Some(visitor.visit::<ExtraC2>())"));
     let module = std::fs::read_to_string(out.join("extra_c2.rs")).unwrap();
     syn::parse_file(&module).expect("parses");
-    // compile it for real, with the solver's Kernel trait, as a library
+    // compile it for real, with the solver's Kernel trait, as a library;
+    // kernel.rs names the lattice kinds of `shearsph-lattice`, compiled
+    // first (it depends on nothing; its serde impls stay out)
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let lattice_rlib = tmp.path().join("libshearsph_lattice.rlib");
+    let st = Command::new(&rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "lib",
+            "--crate-name",
+            "shearsph_lattice",
+            "-o",
+        ])
+        .arg(&lattice_rlib)
+        .arg(root().join("lattice/src/lib.rs"))
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "the lattice crate compiles alone:\n{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
     let lib = tmp.path().join("lib.rs");
     std::fs::write(
         &lib,
@@ -100,8 +123,9 @@ fn added_kernel_appears_in_the_registry_and_compiles() {
         ),
     )
     .unwrap();
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
     let st = Command::new(rustc)
+        .arg("--extern")
+        .arg(format!("shearsph_lattice={}", lattice_rlib.display()))
         .args([
             "--edition",
             "2021",

@@ -25,7 +25,7 @@ fn unshipped_kernel_end_to_end() {
     assert_eq!(def.support.to_string(), "3/2");
     // the paper's lattice and the same at h = 1.3 d
     let tri13 = shearsph_codegen::lattice::Discretisation {
-        lattice: shearsph_codegen::lattice::LatticeKind::Triangular,
+        lattice: shearsph_codegen::lattice::Lattice::Triangular,
         h: shearsph_codegen::rug::Rational::from((13, 10)),
     };
     let a = analyse(

@@ -54,8 +54,8 @@ pub struct SceneArgs {
     /// Particle spacing d.
     #[arg(long)]
     pub d: Option<f64>,
-    /// Starting lattice: `triangular` (the paper's) or `square`.
-    #[arg(long)]
+    /// Starting lattice, by name: the help lists the kinds (`Lattice::ALL`).
+    #[arg(long, help = format!("Starting lattice: {}", crate::kernel::Lattice::choices("`")))]
     pub lattice: Option<String>,
     /// Smoothing length in units of d: a number (1.3) or an exact rational
     /// (13/10); with --lattice it selects a generated discretisation

@@ -199,56 +199,10 @@ impl KernelInfo {
 }
 
 /// The kind of lattice a discretisation starts from (a scene's `lattice`,
-/// in TOML `"triangular"` or `"square"`; the paper's by default).
-/// (Serde's impls are in `crate::config`: this file is also compiled
-/// alone, without serde, by the generator's tests.)
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Lattice {
-    /// The paper's: layers dy = (sqrt 3 / 2) d apart, odd layers offset by d/2.
-    #[default]
-    Triangular,
-    /// dy = d, no offset (PySPH, DualSPHysics, SPHinXsys).
-    Square,
-}
-
-impl Lattice {
-    pub fn name(self) -> &'static str {
-        match self {
-            Lattice::Triangular => "triangular",
-            Lattice::Square => "square",
-        }
-    }
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "triangular" => Some(Lattice::Triangular),
-            "square" => Some(Lattice::Square),
-            _ => None,
-        }
-    }
-    /// Layer spacing dy for particle spacing d: (sqrt 3 / 2) d or d.
-    pub fn dy(self, d: f64) -> f64 {
-        match self {
-            Lattice::Triangular => 0.5 * 3f64.sqrt() * d,
-            Lattice::Square => d,
-        }
-    }
-    /// The x offset of layer `n` in units of d: 1/2 on the triangular
-    /// lattice's odd layers, else 0.
-    pub fn offset(self, n: i32) -> f64 {
-        match self {
-            Lattice::Triangular if n.rem_euclid(2) == 1 => 0.5,
-            _ => 0.0,
-        }
-    }
-}
-
-impl std::str::FromStr for Lattice {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        Lattice::parse(s)
-            .ok_or_else(|| format!("unknown lattice {s:?}: use triangular (the paper's) or square"))
-    }
-}
+/// by name; the paper's by default): described once, in the crate
+/// `shearsph-lattice` (`lattice/`), which the generator reads too;
+/// `generated/` names it here as `Lattice::Triangular`.
+pub use shearsph_lattice::Lattice;
 
 /// Where the c0 models of a discretisation were derived: the configuration
 /// where the search found the maximum compaction.
@@ -280,7 +234,8 @@ pub struct EpsLattice {
     pub lattice: Lattice,
     /// The rows in reach: k = -layers..=layers.
     pub layers: i32,
-    /// dy^2 in d^2 (3/4 or 1, exact): row k is at y^2 = k^2 dy^2.
+    /// dy^2 in d^2 (the kind's exact `dy2`, 3/4 on the triangular lattice):
+    /// row k is at y^2 = k^2 dy^2.
     pub dy2: f64,
     /// Particles a = -reach..=reach of each row are summed (in d).
     pub reach: i32,
@@ -340,7 +295,7 @@ pub struct DiscretisationInfo {
     /// h/d, and its exact form ("13/10").
     pub h_over_d: f64,
     pub h_over_d_exact: &'static str,
-    /// Layer spacing dy in d (sqrt(3)/2 or 1).
+    /// Layer spacing dy in d (sqrt(3)/2 on the triangular lattice).
     pub dy: f64,
     /// Compaction of a centre particle (n = 0) on this discretisation.
     pub eps: EpsInfo,

@@ -14,7 +14,7 @@ use crate::analysis::{Analysis, DiscAnalysis};
 use crate::c0::DEFAULT_MODEL;
 use crate::compaction::{cell_area, Known};
 use crate::exact::{decimal, Exact};
-use crate::lattice::{max_layer_offset, row_reach, LatticeKind};
+use crate::lattice::{max_layer_offset, row_reach, ExactLattice};
 use crate::poly::parse_decimal;
 use eval::{fused, lanes, piecewise, Which};
 use proc_macro2::{Literal, TokenStream};
@@ -130,10 +130,8 @@ fn disc_tokens(
     index: usize,
 ) -> TokenStream {
     let disc = &da.disc;
-    let lattice = match disc.lattice {
-        LatticeKind::Triangular => quote!(Lattice::Triangular),
-        LatticeKind::Square => quote!(Lattice::Square),
-    };
+    let variant = format_ident!("{}", disc.lattice.variant_name());
+    let lattice = quote!(Lattice::#variant);
     let h = lit(disc.h.to_f64());
     let h_exact = disc.h.to_string();
     let dy = lit(Exact::sqrt_rational(&disc.lattice.dy2()).to_f64());

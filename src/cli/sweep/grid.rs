@@ -46,8 +46,8 @@ pub struct GridArgs {
     #[arg(long, value_delimiter = ',')]
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub c0_over_u: Vec<f64>,
-    /// Starting lattices: triangular (the paper's, default), square.
-    #[arg(long, value_delimiter = ',')]
+    /// Starting lattices, by name: the help lists the kinds (`Lattice::ALL`).
+    #[arg(long, value_delimiter = ',', help = lattice_help())]
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub lattice: Vec<crate::kernel::Lattice>,
     /// h/d values, numbers or exact rationals (1, 13/10; default 1); each
@@ -94,6 +94,20 @@ pub struct GridClassArgs {
     /// `over-compressed` (default 0.01).
     #[arg(long)]
     pub eps_margin: Option<f64>,
+}
+
+/// `--lattice`'s help: "Starting lattices: triangular (the paper's,
+/// default), square", from the list of kinds.
+fn lattice_help() -> String {
+    let kinds = crate::kernel::Lattice::listed(", ", |l| {
+        let papers = if l.is_papers() {
+            " (the paper's, default)"
+        } else {
+            ""
+        };
+        format!("{}{papers}", l.name())
+    });
+    format!("Starting lattices: {kinds}")
 }
 
 impl GridArgs {

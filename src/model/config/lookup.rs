@@ -1,8 +1,6 @@
 //! What a scene names, found: the kernel by name, its discretisation by
 //! lattice and h/d.
 
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
 use super::HOverD;
 
 use super::{invalid, SceneError};
@@ -65,18 +63,4 @@ pub fn kernel_info(name: &str) -> Result<&'static KernelInfo, SceneError> {
             known: format!("{}{nearest}", kernels::NAMES.join(", ")),
         }
     })
-}
-
-/// A lattice kind in TOML and JSON: `"triangular"` or `"square"`.
-impl Serialize for Lattice {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
-    }
-}
-
-impl<'de> Deserialize<'de> for Lattice {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let s = String::deserialize(d)?;
-        s.parse().map_err(serde::de::Error::custom)
-    }
 }

@@ -72,7 +72,8 @@ pub struct Scene {
     pub kernel: String,
     /// N: fluid layers n = -(N-1) ..= N-1, half-width B = N dy.
     pub n_layers: u32,
-    /// The starting lattice: `triangular` (the paper's) or `square`.
+    /// The starting lattice, by name (`Lattice::ALL`; the paper's,
+    /// `triangular`, by default).
     #[serde(default)]
     pub lattice: Lattice,
     /// Smoothing length h in units of d: a number or an exact rational

@@ -226,7 +226,7 @@ mod tests {
         // h = 1/10 d (a discretisation a user could generate): R h = 0.2 d
         // for the cubic spline, short of the nearest site at d.
         let info = crate::config::kernel_info("monaghan").unwrap();
-        for kind in [Lattice::Triangular, Lattice::Square] {
+        for &kind in Lattice::ALL {
             let thin = LatticeGeometry::new(kind, 10, 1.0, 0.1, info.support);
             let e = check_interacts(&thin, info).unwrap_err().to_string();
             assert!(

@@ -383,7 +383,7 @@ mod tests {
     #[test]
     fn listed_neighbours_are_the_count_on_either_lattice() {
         let (d, support, skin) = (0.7, 2.0, 0.3);
-        for kind in [Lattice::Triangular, Lattice::Square] {
+        for &kind in Lattice::ALL {
             for h_over_d in [1.0, 13.0 / 10.0, 2.0, 4.0] {
                 let h = h_over_d * d;
                 let listed = listed_neighbours(kind, d, h, support, skin);

@@ -1,7 +1,7 @@
-//! The particle lattice: the triangular one of section 2 (layers
-//! dy = (sqrt 3 / 2) d apart, odd layers offset by d/2) or the square one
-//! (dy = d, no offset), fluid layers n = -(N-1) ..= N-1, wall layers beyond,
-//! in a periodic strip of whole columns just wider than the support.
+//! The particle lattice of a kind (`shearsph-lattice`: its dy and the odd
+//! layers' offset; the triangular one of section 2 is the paper's), fluid
+//! layers n = -(N-1) ..= N-1, wall layers beyond, in a periodic strip of
+//! whole columns just wider than the support.
 
 use serde::Serialize;
 
@@ -14,13 +14,13 @@ pub const CLOSED_TOL: f64 = 1e-9;
 /// Where the particles sit and how many there are.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LatticeGeometry {
-    /// Triangular or square.
+    /// The lattice kind.
     pub kind: Lattice,
     /// Fluid half-width in layers: fluid layers |n| <= N - 1, B = N dy.
     pub n_layers: u32,
     pub d: f64,
     pub h: f64,
-    /// Layer spacing: (sqrt 3 / 2) d (triangular) or d (square).
+    /// Layer spacing: `kind.dy(d)` ((sqrt 3 / 2) d on the triangular lattice).
     pub dy: f64,
     /// Periodic strip: `columns` particles per layer, width = columns d
     /// (a whole number of the lattice's x period d, on either lattice).
@@ -83,10 +83,7 @@ impl LatticeGeometry {
         let inv_h2 = 1.0 / (h * h);
         let (mut w_sum, mut lyy) = (0.0, 0.0);
         for j in -rows..=rows {
-            let shift = match self.kind {
-                Lattice::Triangular if j % 2 != 0 => 0.5 * d,
-                _ => 0.0,
-            };
+            let shift = self.kind.offset(j) * d;
             let y = j as f64 * dy;
             for i in -cols..=cols {
                 let x = i as f64 * d + shift;

@@ -154,7 +154,7 @@ pub struct SweepSpec {
     /// Sound speeds as multiples of U.
     #[serde(default)]
     pub c0_over_u: Vec<f64>,
-    /// Starting lattices (`triangular`, `square`).
+    /// Starting lattices, by name (`Lattice::ALL`).
     #[serde(default = "default_lattice")]
     pub lattice: Vec<Lattice>,
     /// h/d values, numbers or exact rationals (`"13/10"`); each with each
