@@ -386,11 +386,11 @@ mod tests {
 
     /// The solver's step, differentiated by finite differences
     /// ([`flow_jacobian`]), against the linearisation written out by hand,
-    /// on both lattices: entry by entry, and the multipliers (eigenvalues,
+    /// on every lattice kind: entry by entry, and the multipliers (eigenvalues,
     /// nalgebra's) in modulus and argument.
     #[test]
     fn the_steps_jacobian_is_the_hand_linearisation_at_rest() {
-        for lattice in ["triangular", "square"] {
+        for lattice in crate::kernel::Lattice::ALL.iter().map(|l| l.name()) {
             let problem = at_rest(lattice);
             let start = Sim::new::<Monaghan>(&problem);
             let t = start.time_step().dt;
