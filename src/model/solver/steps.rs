@@ -114,6 +114,8 @@ pub struct FluidState {
     vy: Vec<f64>,
     v_pred_x: Vec<f64>,
     v_pred_y: Vec<f64>,
+    /// The layer each particle started in.
+    layer: Vec<i32>,
 }
 
 /// Run `problem` with kernel `K` from its start to `until_t`, on the
@@ -145,19 +147,22 @@ pub fn disordered_state<K: Kernel>(problem: &Problem, until_t: f64) -> FluidStat
             vy: fluid(&sim.s.vy),
             v_pred_x: fluid(&sim.s.v_pred_x),
             v_pred_y: fluid(&sim.s.v_pred_y),
+            layer: sim.s.layer[..nf].to_vec(),
         }
     })
 }
 
 /// `base` tiled along x into `problem` (its scene on a strip a whole
 /// number of `base`'s strips wide: the same layers, kernel and flow), and
-/// `steps` steps of it timed, on the current rayon pool. Copy m of base
-/// particle (layer, column c) is the tiled lattice's particle (layer,
-/// column m C + c), moved by m times the base strip's width: every copy is
-/// the base's state, so every size has the base's neighbours per
-/// particle, the same scatter of their indices (copies of one layer are
-/// stored together, as the lattice stores a layer) and the same rebuilds
-/// per step. The walls are the tiled lattice's own, which are the base's
+/// `steps` steps of it timed, on the current rayon pool. The base is
+/// stored in blocks of C particles (its lattice layers, or the bands of y
+/// of its last rebuild, [`State::reorder`]); copy m of the base's particle
+/// (block b, place c) is the tiled state's particle (block b, place
+/// m C + c), moved by m times the base strip's width: every copy is the
+/// base's state, so every size has the base's neighbours per particle,
+/// the same scatter of their indices (copies of one block are stored
+/// together, as the lattice stores a layer) and the same rebuilds per
+/// step. The walls are the tiled lattice's own, which are the base's
 /// repeated.
 ///
 /// Panics if `problem`'s lattice is not `base`'s tiled.
@@ -181,6 +186,7 @@ pub fn run_steps_tiled<K: Kernel>(problem: &Problem, base: &FluidState, steps: u
                 s.vy[k] = base.vy[i];
                 s.v_pred_x[k] = base.v_pred_x[i];
                 s.v_pred_y[k] = base.v_pred_y[i];
+                s.layer[k] = base.layer[i];
             }
         }
     }
