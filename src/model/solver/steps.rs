@@ -290,3 +290,115 @@ mod tests {
         assert!(close(three.last.max_eps, one.last.max_eps));
     }
 }
+
+#[cfg(test)]
+mod reorder_tests {
+    use super::*;
+    use crate::config::{Initial, Scene};
+    use crate::kernel::Lattice;
+    use crate::kernels::Composite;
+
+    /// The composite kernel on the square lattice at h = d, from rest:
+    /// its lattice disorders by t = 11, so the rebuilds after that store
+    /// the fluid again band by band ([`State::reorder`]).
+    fn disordering() -> Problem {
+        let scene = Scene {
+            kernel: "composite".into(),
+            n_layers: 8,
+            re: Some(10.0),
+            alpha: 0.0,
+            lattice: Lattice::Square,
+            h_over_d: 1.0,
+            c0: "rule10".parse().expect("a rule"),
+            initial: Initial::Rest,
+            eps_limit: 0.5,
+            ..Scene::builtin()
+        };
+        Problem::resolve(&scene, Composite::INFO).expect("the scene")
+    }
+
+    /// The fluid's state and ids after `until_t`, on `threads` threads.
+    fn state_after(problem: &Problem, until_t: f64, threads: usize) -> (Vec<f64>, Vec<u32>) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| {
+            rayon::scope(|_| {
+                let mut sim = Sim::new::<Composite>(problem);
+                let mut t = 0.0;
+                while t < until_t {
+                    let dt = sim.time_step().dt;
+                    let check = sim.advance::<Composite>(dt);
+                    assert!(sim.failure(&check).is_none(), "no failure");
+                    t += dt;
+                }
+                let nf = sim.s.n_fluid;
+                let s = &sim.s;
+                let values = [&s.x, &s.y, &s.vx, &s.vy, &s.rho]
+                    .iter()
+                    .flat_map(|v| v[..nf].iter().copied())
+                    .collect();
+                (values, s.id.clone())
+            })
+        })
+    }
+
+    /// Once the lattice is lost the fluid is stored in another order, and
+    /// the run is the same bits on one thread and two.
+    #[test]
+    fn a_reordered_run_does_not_depend_on_the_thread_count() {
+        let problem = disordering();
+        let (one, ids) = state_after(&problem, 40.0, 1);
+        let (two, ids_two) = state_after(&problem, 40.0, 2);
+        let moved = ids.iter().enumerate().filter(|&(i, &id)| id as usize != i);
+        assert!(moved.count() > 0, "the fluid was reordered by t = 40");
+        assert_eq!(ids, ids_two);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&one), bits(&two));
+    }
+
+    /// Reordering moves every particle's values together, keeps each id
+    /// once, and leaves a lattice whose layers are only rotated (sheared
+    /// past the strip's edge) where it is.
+    #[test]
+    fn a_reorder_moves_whole_particles_and_leaves_a_rotated_lattice() {
+        let problem = disordering();
+        let lat = problem.lattice;
+        let c = lat.columns as usize;
+        let mut s = State::new(&lat, &problem);
+        let nf = s.n_fluid;
+        let low = -lat.b() - 0.5 * lat.dy;
+        let mut order = Vec::new();
+        // Every layer shifted by half its width: each is rotated.
+        for i in 0..nf {
+            s.x[i] += 0.5 * lat.width;
+        }
+        s.wrap(lat.width);
+        let before = s.x.clone();
+        assert!(!s.reorder(low, lat.dy, c, &mut order), "rotations stay");
+        assert_eq!(s.x, before);
+        // Two particles of layer 0 swapped in x: now it moves.
+        for i in 0..nf {
+            s.rho[i] = f64::from(s.id[i]);
+        }
+        s.x.swap(0, 1);
+        assert!(s.reorder(low, lat.dy, c, &mut order), "an order lost");
+        let mut seen = vec![false; nf];
+        for i in 0..nf {
+            let id = s.id[i] as usize;
+            assert!(!seen[id], "each id once");
+            seen[id] = true;
+            assert_eq!(s.rho[i], id as f64, "rho moved with its particle");
+        }
+        // Band by band, by x within a band.
+        let band = |i: usize| ((s.y[i] - low) / lat.dy) as i64;
+        for i in 1..nf {
+            assert!(
+                (band(i - 1), s.x[i - 1]) <= (band(i), s.x[i]),
+                "sorted at {i}"
+            );
+        }
+        assert_eq!(&s.x0[..nf], &s.x[..nf], "the rebuild's reference moved too");
+    }
+}
