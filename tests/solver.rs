@@ -420,6 +420,13 @@ fn square_lattice_startup_matches_the_series() {
             s.lattice = disc.lattice;
             s.h_over_d = disc.h_over_d;
             s.c0 = "rule10".parse().unwrap();
+            // A start-up test, not a compaction test: the composite
+            // kernel's lattice pulsates by 15 % at h = d, and once the
+            // lattice disorders (t = 11) the largest eps of its particles
+            // wanders between 0.16 and 0.2 (0.179 and 0.2003 by t = 225 on
+            // two builds that differ only in rounding), so the default
+            // 0.2 limit would make the outcome chance.
+            s.eps_limit = 0.3;
             let r = run(&s);
             let worst = worst_linf(&r);
             eprintln!(

@@ -26,12 +26,23 @@ pub struct ParticleFrame<'a> {
 
 /// What a frame needs beyond the state's own arrays, kept between outputs
 /// so an output allocates nothing after the first: x wrapped into the strip
-/// (it runs past the edges between list rebuilds), eps, the wall flags.
+/// (it runs past the edges between list rebuilds), eps, the wall flags;
+/// and, once the solver has reordered the fluid ([`State::reorder`]), every
+/// field in the start's order, so that particle k of every frame is the
+/// same particle.
 #[derive(Debug, Default)]
 pub(super) struct FrameBuf {
     x: Vec<f64>,
     eps: Vec<f64>,
     wall: Vec<bool>,
+    /// For each particle (the start's index), where the state holds it.
+    at: Vec<usize>,
+    y: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    rho: Vec<f64>,
+    press: Vec<f64>,
+    layer: Vec<i32>,
 }
 
 impl FrameBuf {
@@ -39,25 +50,55 @@ impl FrameBuf {
     pub fn frame<'a>(&'a mut self, s: &'a State, problem: &Problem, t: f64) -> ParticleFrame<'a> {
         let n = s.x.len();
         let width = problem.lattice.width;
+        self.at.resize(n, 0);
+        for (k, &id) in s.id.iter().enumerate() {
+            self.at[id as usize] = k;
+        }
+        let at = &self.at;
         self.x.clear();
-        self.x.extend(s.x.iter().map(|x| x.rem_euclid(width)));
+        self.x.extend(at.iter().map(|&k| s.x[k].rem_euclid(width)));
         self.eps.clear();
         self.eps
-            .extend(s.rho.iter().map(|r| r / problem.rho0 - 1.0));
+            .extend(at.iter().map(|&k| s.rho[k] / problem.rho0 - 1.0));
         if self.wall.len() != n {
             self.wall = (0..n).map(|i| i >= s.n_fluid).collect();
         }
+        if at.iter().enumerate().all(|(i, &k)| i == k) {
+            return ParticleFrame {
+                time: t,
+                x: &self.x,
+                y: &s.y,
+                vx: &s.vx,
+                vy: &s.vy,
+                density: &s.rho,
+                pressure: &s.press,
+                eps: &self.eps,
+                wall: &self.wall,
+                layer: &s.layer,
+            };
+        }
+        let gather = |out: &mut Vec<f64>, v: &[f64]| {
+            out.clear();
+            out.extend(at.iter().map(|&k| v[k]));
+        };
+        gather(&mut self.y, &s.y);
+        gather(&mut self.vx, &s.vx);
+        gather(&mut self.vy, &s.vy);
+        gather(&mut self.rho, &s.rho);
+        gather(&mut self.press, &s.press);
+        self.layer.clear();
+        self.layer.extend(at.iter().map(|&k| s.layer[k]));
         ParticleFrame {
             time: t,
             x: &self.x,
-            y: &s.y,
-            vx: &s.vx,
-            vy: &s.vy,
-            density: &s.rho,
-            pressure: &s.press,
+            y: &self.y,
+            vx: &self.vx,
+            vy: &self.vy,
+            density: &self.rho,
+            pressure: &self.press,
             eps: &self.eps,
             wall: &self.wall,
-            layer: &s.layer,
+            layer: &self.layer,
         }
     }
 }

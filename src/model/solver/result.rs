@@ -102,7 +102,8 @@ impl std::fmt::Display for Failure {
 /// ([`Failure::ThroughWall`]) or the densest ([`Failure::Compaction`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Particle {
-    /// Index among the particles (fluid first; the order never changes).
+    /// Index among the particles at the start (fluid first), whatever
+    /// order the solver stores them in since.
     pub index: usize,
     /// The lattice layer n it started in (0 on the centre line).
     pub layer: i32,

@@ -114,6 +114,8 @@ pub struct FluidState {
     vy: Vec<f64>,
     v_pred_x: Vec<f64>,
     v_pred_y: Vec<f64>,
+    /// The layer each particle started in.
+    layer: Vec<i32>,
 }
 
 /// Run `problem` with kernel `K` from its start to `until_t`, on the
@@ -145,19 +147,22 @@ pub fn disordered_state<K: Kernel>(problem: &Problem, until_t: f64) -> FluidStat
             vy: fluid(&sim.s.vy),
             v_pred_x: fluid(&sim.s.v_pred_x),
             v_pred_y: fluid(&sim.s.v_pred_y),
+            layer: sim.s.layer[..nf].to_vec(),
         }
     })
 }
 
 /// `base` tiled along x into `problem` (its scene on a strip a whole
 /// number of `base`'s strips wide: the same layers, kernel and flow), and
-/// `steps` steps of it timed, on the current rayon pool. Copy m of base
-/// particle (layer, column c) is the tiled lattice's particle (layer,
-/// column m C + c), moved by m times the base strip's width: every copy is
-/// the base's state, so every size has the base's neighbours per
-/// particle, the same scatter of their indices (copies of one layer are
-/// stored together, as the lattice stores a layer) and the same rebuilds
-/// per step. The walls are the tiled lattice's own, which are the base's
+/// `steps` steps of it timed, on the current rayon pool. The base is
+/// stored in blocks of C particles (its lattice layers, or the bands of y
+/// of its last rebuild, [`State::reorder`]); copy m of the base's particle
+/// (block b, place c) is the tiled state's particle (block b, place
+/// m C + c), moved by m times the base strip's width: every copy is the
+/// base's state, so every size has the base's neighbours per particle,
+/// the same scatter of their indices (copies of one block are stored
+/// together, as the lattice stores a layer) and the same rebuilds per
+/// step. The walls are the tiled lattice's own, which are the base's
 /// repeated.
 ///
 /// Panics if `problem`'s lattice is not `base`'s tiled.
@@ -181,6 +186,7 @@ pub fn run_steps_tiled<K: Kernel>(problem: &Problem, base: &FluidState, steps: u
                 s.vy[k] = base.vy[i];
                 s.v_pred_x[k] = base.v_pred_x[i];
                 s.v_pred_y[k] = base.v_pred_y[i];
+                s.layer[k] = base.layer[i];
             }
         }
     }
@@ -282,5 +288,117 @@ mod tests {
         assert!(close(three.last.dy_rms, one.last.dy_rms));
         assert!(close(three.last.mean_eps, one.last.mean_eps));
         assert!(close(three.last.max_eps, one.last.max_eps));
+    }
+}
+
+#[cfg(test)]
+mod reorder_tests {
+    use super::*;
+    use crate::config::{Initial, Scene};
+    use crate::kernel::Lattice;
+    use crate::kernels::Composite;
+
+    /// The composite kernel on the square lattice at h = d, from rest:
+    /// its lattice disorders by t = 11, so the rebuilds after that store
+    /// the fluid again band by band ([`State::reorder`]).
+    fn disordering() -> Problem {
+        let scene = Scene {
+            kernel: "composite".into(),
+            n_layers: 8,
+            re: Some(10.0),
+            alpha: 0.0,
+            lattice: Lattice::Square,
+            h_over_d: 1.0,
+            c0: "rule10".parse().expect("a rule"),
+            initial: Initial::Rest,
+            eps_limit: 0.5,
+            ..Scene::builtin()
+        };
+        Problem::resolve(&scene, Composite::INFO).expect("the scene")
+    }
+
+    /// The fluid's state and ids after `until_t`, on `threads` threads.
+    fn state_after(problem: &Problem, until_t: f64, threads: usize) -> (Vec<f64>, Vec<u32>) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| {
+            rayon::scope(|_| {
+                let mut sim = Sim::new::<Composite>(problem);
+                let mut t = 0.0;
+                while t < until_t {
+                    let dt = sim.time_step().dt;
+                    let check = sim.advance::<Composite>(dt);
+                    assert!(sim.failure(&check).is_none(), "no failure");
+                    t += dt;
+                }
+                let nf = sim.s.n_fluid;
+                let s = &sim.s;
+                let values = [&s.x, &s.y, &s.vx, &s.vy, &s.rho]
+                    .iter()
+                    .flat_map(|v| v[..nf].iter().copied())
+                    .collect();
+                (values, s.id.clone())
+            })
+        })
+    }
+
+    /// Once the lattice is lost the fluid is stored in another order, and
+    /// the run is the same bits on one thread and two.
+    #[test]
+    fn a_reordered_run_does_not_depend_on_the_thread_count() {
+        let problem = disordering();
+        let (one, ids) = state_after(&problem, 40.0, 1);
+        let (two, ids_two) = state_after(&problem, 40.0, 2);
+        let moved = ids.iter().enumerate().filter(|&(i, &id)| id as usize != i);
+        assert!(moved.count() > 0, "the fluid was reordered by t = 40");
+        assert_eq!(ids, ids_two);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&one), bits(&two));
+    }
+
+    /// Reordering moves every particle's values together, keeps each id
+    /// once, and leaves a lattice whose layers are only rotated (sheared
+    /// past the strip's edge) where it is.
+    #[test]
+    fn a_reorder_moves_whole_particles_and_leaves_a_rotated_lattice() {
+        let problem = disordering();
+        let lat = problem.lattice;
+        let c = lat.columns as usize;
+        let mut s = State::new(&lat, &problem);
+        let nf = s.n_fluid;
+        let low = -lat.b() - 0.5 * lat.dy;
+        let mut order = Vec::new();
+        // Every layer shifted by half its width: each is rotated.
+        for i in 0..nf {
+            s.x[i] += 0.5 * lat.width;
+        }
+        s.wrap(lat.width);
+        let before = s.x.clone();
+        assert!(!s.reorder(low, lat.dy, c, &mut order), "rotations stay");
+        assert_eq!(s.x, before);
+        // Two particles of layer 0 swapped in x: now it moves.
+        for i in 0..nf {
+            s.rho[i] = f64::from(s.id[i]);
+        }
+        s.x.swap(0, 1);
+        assert!(s.reorder(low, lat.dy, c, &mut order), "an order lost");
+        let mut seen = vec![false; nf];
+        for i in 0..nf {
+            let id = s.id[i] as usize;
+            assert!(!seen[id], "each id once");
+            seen[id] = true;
+            assert_eq!(s.rho[i], id as f64, "rho moved with its particle");
+        }
+        // Band by band, by x within a band.
+        let band = |i: usize| ((s.y[i] - low) / lat.dy) as i64;
+        for i in 1..nf {
+            assert!(
+                (band(i - 1), s.x[i - 1]) <= (band(i), s.x[i]),
+                "sorted at {i}"
+            );
+        }
+        assert_eq!(&s.x0[..nf], &s.x[..nf], "the rebuild's reference moved too");
     }
 }

@@ -139,6 +139,9 @@ impl Perturbation {
 pub fn growth<K: Kernel>(problem: &Problem, seed: &Perturbation, opt: Options) -> Growth {
     let mut base = Sim::new::<K>(problem);
     let mut pert = Sim::new::<K>(problem);
+    // The two copies are compared particle by particle: each keeps its
+    // start's order.
+    (base.reorder, pert.reorder) = (false, false);
     let n0 = seed.norm();
     assert!(n0 > 0.0 && n0.is_finite(), "a perturbation to follow");
     pert.set_to::<K>(&base, &seed.scaled(opt.eps / n0));

@@ -9,16 +9,18 @@
 //! by particle index and image), so every sum over it is the same whatever
 //! the thread count. For the force pass, each list is also cut into
 //! [`Window`]s, runs of LANES consecutive indices (each lane with its own
-//! image): the lattice keeps its rows in index order, so a neighbour row is
-//! one or two windows, loaded as contiguous vectors instead of gathered;
+//! image): the lattice keeps its rows in index order (and the solver keeps a
+//! disordered fluid's bands of y so, `State::reorder`), so a neighbour row
+//! is one or two windows, loaded as contiguous vectors instead of gathered;
 //! each pair's (dW/dq)/q is written where both its window lanes read it
 //! ([`NeighbourList::lanes_of_pairs`]).
 //!
 //! Rebuild rule: a pair not in the list was more than R h + skin apart; it
 //! can only have come within R h if the two displacements since the rebuild
 //! differ by more than `skin`. Particles are grouped in blocks (the lattice
-//! layers they started in), and each block's displacements since the rebuild
-//! are bounded by a box. Two displacements differ by at most the diagonal of
+//! layers they started in or, once the order is lost, the bands of y the
+//! solver stored them in at the rebuild: `State::reorder`), and each
+//! block's displacements since the rebuild are bounded by a box. Two displacements differ by at most the diagonal of
 //! the union of their blocks' boxes; only blocks that were within R h + skin
 //! of each other in y at the rebuild need that check, provided no two
 //! transverse displacements differ by more than `skin` either. In shear the

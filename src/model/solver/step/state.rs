@@ -29,6 +29,9 @@ pub(crate) struct State {
     pub y0: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
+    /// Each particle's index at the start (storage order changes at list
+    /// rebuilds, [`State::reorder`]): walls keep theirs.
+    pub id: Vec<u32>,
     /// How far beyond the no-slip plane |y| = B each particle sits: |y| - B
     /// for the walls (which never move), 0 for the fluid. For mirrored walls.
     pub depth: Vec<f64>,
@@ -99,6 +102,7 @@ impl State {
             x,
             y,
             layer,
+            id: (0..n as u32).collect(),
             pair_slots: usize::MAX,
             pair_w: Vec::new(),
             lane_g: Vec::new(),
@@ -130,6 +134,74 @@ impl State {
         .sum::<usize>();
         (f64s + self.pair_w.capacity() + self.lane_g.capacity()) * size_of::<f64>()
             + self.layer.capacity() * size_of::<u32>()
+    }
+
+    /// Store the fluid particles band by band (bands `band` high in y from
+    /// `y_low`), by x within a band (ties by id), so that a row of a
+    /// particle's neighbours is a run of consecutive indices, as a layer
+    /// of the lattice is at the start. Call after [`Self::wrap`]. Nothing
+    /// moves while every block of `block` particles is already one band in
+    /// x order from some particle on (a layer sheared past the strip's
+    /// edge is such a rotation): a lattice that keeps its order keeps its
+    /// storage, and its results their bits. Deterministic, so results do
+    /// not depend on the thread count. Returns whether particles moved.
+    pub fn reorder(
+        &mut self,
+        y_low: f64,
+        band: f64,
+        block: usize,
+        order: &mut Vec<(u64, u32)>,
+    ) -> bool {
+        let nf = self.n_fluid;
+        order.clear();
+        order.extend((0..nf).map(|i| {
+            let b = ((self.y[i] - y_low) / band).max(0.0) as u64;
+            // x >= 0 after wrap: its bits order as its value.
+            let key = (b << 52) | (self.x[i].to_bits() >> 12);
+            (key, i as u32)
+        }));
+        order.sort_unstable_by_key(|&(k, i)| (k, self.id[i as usize]));
+        let rotation = |(k, seg): (usize, &[(u64, u32)])| {
+            let first = k * block;
+            let r = (seg[0].1 as usize).wrapping_sub(first);
+            r < block
+                && seg
+                    .iter()
+                    .enumerate()
+                    .all(|(m, &(_, i))| i as usize == first + (r + m) % block)
+        };
+        if order.chunks(block).enumerate().all(rotation) {
+            return false;
+        }
+        fn permute<T: Copy>(v: &mut [T], order: &[(u64, u32)], tmp: &mut Vec<T>) {
+            tmp.clear();
+            tmp.extend(order.iter().map(|&(_, i)| v[i as usize]));
+            v[..order.len()].copy_from_slice(tmp);
+        }
+        let mut f = Vec::with_capacity(nf);
+        for v in [
+            &mut self.x,
+            &mut self.y,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.v_pred_x,
+            &mut self.v_pred_y,
+            &mut self.ax,
+            &mut self.ay,
+            &mut self.rho,
+            &mut self.press,
+            &mut self.vol,
+            &mut self.p_rho2,
+        ] {
+            permute(v, order, &mut f);
+        }
+        let mut l = Vec::with_capacity(nf);
+        permute(&mut self.layer, order, &mut l);
+        let mut d = Vec::with_capacity(nf);
+        permute(&mut self.id, order, &mut d);
+        self.x0.copy_from_slice(&self.x[..nf]);
+        self.y0.copy_from_slice(&self.y[..nf]);
+        true
     }
 
     /// Wrap the fluid into the strip and take the current positions as the
