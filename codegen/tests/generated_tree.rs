@@ -8,6 +8,27 @@ use shearsph_codegen::{discretisation, emit};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// `src` compiled by rustc (`RUSTC`, else the one on the path) as the
+/// 2021-edition library `name` into `out`, with `extra` arguments first.
+fn rustc_lib(name: &str, src: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    Command::new(rustc)
+        .args(extra)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "lib",
+            "--crate-name",
+            name,
+            "-o",
+        ])
+        .arg(out)
+        .arg(src)
+        .output()
+        .unwrap()
+}
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
@@ -91,22 +112,13 @@ fn added_kernel_appears_in_the_registry_and_compiles() {
     // compile it for real, with the solver's Kernel trait, as a library;
     // kernel.rs names the lattice kinds of `shearsph-lattice`, compiled
     // first (it depends on nothing; its serde impls stay out)
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
     let lattice_rlib = tmp.path().join("libshearsph_lattice.rlib");
-    let st = Command::new(&rustc)
-        .args([
-            "--edition",
-            "2021",
-            "--crate-type",
-            "lib",
-            "--crate-name",
-            "shearsph_lattice",
-            "-o",
-        ])
-        .arg(&lattice_rlib)
-        .arg(root().join("lattice/src/lib.rs"))
-        .output()
-        .unwrap();
+    let st = rustc_lib(
+        "shearsph_lattice",
+        &root().join("lattice/src/lib.rs"),
+        &lattice_rlib,
+        &[],
+    );
     assert!(
         st.status.success(),
         "the lattice crate compiles alone:\n{}",
@@ -123,25 +135,14 @@ fn added_kernel_appears_in_the_registry_and_compiles() {
         ),
     )
     .unwrap();
-    let st = Command::new(rustc)
-        .arg("--extern")
-        .arg(format!("shearsph_lattice={}", lattice_rlib.display()))
-        .args([
-            "--edition",
-            "2021",
-            "--crate-type",
-            "lib",
-            "--crate-name",
-            "gen_check",
-            // no warning at all: a module without a paper row imports nothing it does not use
-            "-D",
-            "warnings",
-            "-o",
-        ])
-        .arg(tmp.path().join("libgen_check.rlib"))
-        .arg(&lib)
-        .output()
-        .unwrap();
+    let extern_lattice = format!("shearsph_lattice={}", lattice_rlib.display());
+    // no warning at all: a module without a paper row imports nothing it does not use
+    let st = rustc_lib(
+        "gen_check",
+        &lib,
+        &tmp.path().join("libgen_check.rlib"),
+        &["--extern", &extern_lattice, "-D", "warnings"],
+    );
     assert!(
         st.status.success(),
         "the emitted code compiles:\n{}",
