@@ -136,7 +136,7 @@ struct Sim<'p> {
     /// particle by particle by index ([`tangent`]). The first list keeps
     /// the start's order.
     reorder: bool,
-    order: Vec<(u64, u32)>,
+    order: Vec<(u64, u64, u32)>,
 }
 
 /// What one step found that may end the run.

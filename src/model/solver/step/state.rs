@@ -150,32 +150,31 @@ impl State {
         y_low: f64,
         band: f64,
         block: usize,
-        order: &mut Vec<(u64, u32)>,
+        order: &mut Vec<(u64, u64, u32)>,
     ) -> bool {
         let nf = self.n_fluid;
         order.clear();
         order.extend((0..nf).map(|i| {
             let b = ((self.y[i] - y_low) / band).max(0.0) as u64;
             // x >= 0 after wrap: its bits order as its value.
-            let key = (b << 52) | (self.x[i].to_bits() >> 12);
-            (key, i as u32)
+            (b, self.x[i].to_bits(), i as u32)
         }));
-        order.sort_unstable_by_key(|&(k, i)| (k, self.id[i as usize]));
-        let rotation = |(k, seg): (usize, &[(u64, u32)])| {
+        order.sort_unstable_by_key(|&(b, x, i)| (b, x, self.id[i as usize]));
+        let rotation = |(k, seg): (usize, &[(u64, u64, u32)])| {
             let first = k * block;
-            let r = (seg[0].1 as usize).wrapping_sub(first);
+            let r = (seg[0].2 as usize).wrapping_sub(first);
             r < block
                 && seg
                     .iter()
                     .enumerate()
-                    .all(|(m, &(_, i))| i as usize == first + (r + m) % block)
+                    .all(|(m, &(_, _, i))| i as usize == first + (r + m) % block)
         };
         if order.chunks(block).enumerate().all(rotation) {
             return false;
         }
-        fn permute<T: Copy>(v: &mut [T], order: &[(u64, u32)], tmp: &mut Vec<T>) {
+        fn permute<T: Copy>(v: &mut [T], order: &[(u64, u64, u32)], tmp: &mut Vec<T>) {
             tmp.clear();
-            tmp.extend(order.iter().map(|&(_, i)| v[i as usize]));
+            tmp.extend(order.iter().map(|&(_, _, i)| v[i as usize]));
             v[..order.len()].copy_from_slice(tmp);
         }
         let mut f = Vec::with_capacity(nf);
