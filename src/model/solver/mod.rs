@@ -361,6 +361,7 @@ impl<'p> Sim<'p> {
         self.s.bytes()
             + self.list.bytes()
             + self.motion.capacity() * size_of::<(Displacements, f64)>()
+            + self.order.capacity() * size_of::<(u64, u64, u32)>()
     }
 }
 

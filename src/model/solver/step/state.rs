@@ -133,7 +133,7 @@ impl State {
         .map(|v| v.capacity())
         .sum::<usize>();
         (f64s + self.pair_w.capacity() + self.lane_g.capacity()) * size_of::<f64>()
-            + self.layer.capacity() * size_of::<u32>()
+            + (self.layer.capacity() + self.id.capacity()) * size_of::<u32>()
     }
 
     /// Store the fluid particles band by band (bands `band` high in y from
