@@ -117,7 +117,7 @@ impl NeighbourList {
         let last_start = (n - LANES) as u32;
         let zero = self.own_entries.len() as u32;
         let stride = self.stride;
-        let (entries, source, count) = (&self.entries, &self.source, &self.count);
+        let (entries, source, count, own) = (&self.entries, &self.source, &self.count, &self.own);
         // Per task of BUILD_CHUNK particles, their windows in one vector
         // and each one's count: two allocations a task, not one a particle
         // (on several threads, allocations per particle contend for the
@@ -145,7 +145,13 @@ impl NeighbourList {
                                     | u64::from(src)
                             }),
                     );
-                    slots.sort_unstable();
+                    // Every mirrored entry (j < i, or i's own image
+                    // through -W) comes before every own one (j > i, or
+                    // i through +W) in this order: each part sorts alone.
+                    let o = own[i] as usize;
+                    slots[..o].sort_unstable();
+                    slots[o..].sort_unstable();
+                    slots.rotate_left(o);
                     let first = out.len();
                     for &key in slots.iter() {
                         let (j, image, src) =
