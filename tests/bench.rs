@@ -118,6 +118,8 @@ fn bench_json_has_every_figure() {
             "{row}"
         );
         assert!(row["lane_use"].as_f64().unwrap() <= 1.0, "{row}");
+        // small scenes: the force pass reads a window-lane table
+        assert_eq!(row["force_g"].as_str(), Some("lanes"), "{row}");
         assert!(row["flops_per_pair"].as_f64().unwrap() > 0.0);
         // the listed pairs include the skin's
         assert!(

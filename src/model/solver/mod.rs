@@ -339,7 +339,11 @@ impl<'p> Sim<'p> {
     /// force pass reads each window (its start and lanes, 8) and its
     /// lanes' (dW/dq)/q (8 a lane), the particle arrays x, y, vx, vy
     /// predicted, P, m/rho (and the wall depth), and reads and writes the
-    /// fluid's rho, v and a.
+    /// fluid's rho, v and a. A list without a lane table
+    /// ([`NeighbourList::lane_table`]): the kernel pass writes (dW/dq)/q
+    /// once a pair (8) and reads no lanes, and the force pass reads each
+    /// window's sources (4 a lane) and the pair table's (dW/dq)/q (8 a
+    /// pair) instead of the lanes' values.
     fn pass_bytes(&self) -> f64 {
         let (n, nf) = (self.s.x.len() as f64, self.s.n_fluid as f64);
         let own = self.list.own_pairs() as f64;
@@ -348,11 +352,18 @@ impl<'p> Sim<'p> {
             .sum();
         let windows = self.list.window_count() as f64;
         let depth = if self.params.mirror_walls { 8.0 } else { 0.0 };
-        let kernel = own * 40.0 + 16.0 * n;
+        let lane_table = self.list.lane_table();
+        let kernel = own * if lane_table { 40.0 } else { 24.0 } + 16.0 * n;
         let sum = padded * 12.0 + 4.0 * n + 32.0 * n;
         let window = size_of::<crate::solver::neighbours::Window>() as f64;
-        let lanes = (crate::solver::neighbours::LANES * size_of::<f64>()) as f64;
-        let forces = windows * (window + lanes) + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
+        // A window's lanes' (dW/dq)/q, or their sources and the pair table.
+        let lanes = crate::solver::neighbours::LANES as f64;
+        let g = if lane_table {
+            windows * lanes * 8.0
+        } else {
+            windows * lanes * 4.0 + own * 8.0
+        };
+        let forces = windows * window + g + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
         kernel + sum + forces
     }
 

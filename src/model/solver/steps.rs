@@ -78,6 +78,10 @@ pub struct StepsRun {
     pub fluid_window_lanes: usize,
     /// Of those lanes, the listed ones.
     pub fluid_listed_lanes: usize,
+    /// Whether the last list had a window-lane table
+    /// ([`neighbours::NeighbourList::lane_table`]) or the force pass
+    /// gathered from the pair table.
+    pub lane_table: bool,
     pub pass_bytes_per_step: f64,
     pub outcome: Outcome,
     /// Diagnostics after the last step (against the start-up series when
@@ -243,6 +247,7 @@ fn timed<K: Kernel>(mut sim: Sim, steps: u64) -> StepsRun {
             .flat_map(|i| sim.list.windows(i))
             .map(|w| w.mask().count_ones() as usize)
             .sum(),
+        lane_table: sim.list.lane_table(),
         pass_bytes_per_step: sim.pass_bytes(),
         outcome,
         last: sim.sample(t, taken, dt),
@@ -297,6 +302,7 @@ mod reorder_tests {
     use crate::config::{Initial, Scene};
     use crate::kernel::Lattice;
     use crate::kernels::Composite;
+    use crate::solver::neighbours::LANE_TABLE_MAX_BYTES;
 
     /// The composite kernel on the square lattice at h = d, from rest:
     /// its lattice disorders by t = 11, so the rebuilds after that store
@@ -319,6 +325,18 @@ mod reorder_tests {
 
     /// The fluid's state and ids after `until_t`, on `threads` threads.
     fn state_after(problem: &Problem, until_t: f64, threads: usize) -> (Vec<f64>, Vec<u32>) {
+        state_after_with(problem, until_t, threads, None)
+    }
+
+    /// [`state_after`] with lists of at most `lane_table_max` bytes of
+    /// window-lane table ([`NeighbourList::lane_table`]), the first list
+    /// included.
+    fn state_after_with(
+        problem: &Problem,
+        until_t: f64,
+        threads: usize,
+        lane_table_max: Option<usize>,
+    ) -> (Vec<f64>, Vec<u32>) {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -326,6 +344,12 @@ mod reorder_tests {
         pool.install(|| {
             rayon::scope(|_| {
                 let mut sim = Sim::new::<Composite>(problem);
+                if let Some(bytes) = lane_table_max {
+                    let (lat, s) = (problem.lattice, &sim.s);
+                    sim.list.set_lane_table_max(bytes);
+                    sim.list.build(&s.x, &s.y, lat.width, sim.cutoff, sim.block);
+                    assert_eq!(sim.list.lane_table(), bytes > 0);
+                }
                 let mut t = 0.0;
                 while t < until_t {
                     let dt = sim.time_step().dt;
@@ -356,6 +380,19 @@ mod reorder_tests {
         assert_eq!(ids, ids_two);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&one), bits(&two));
+    }
+
+    /// Without a window-lane table the force pass gathers each window's
+    /// (dW/dq)/q from the pair table: the same values in the same lanes, so
+    /// a disordered run with its rebuilds and reorders is the same bits.
+    #[test]
+    fn a_run_without_a_lane_table_is_the_same_bits() {
+        let problem = disordering();
+        let with = state_after(&problem, 40.0, 1);
+        assert_eq!(state_after_with(&problem, 40.0, 1, Some(0)), with);
+        // The default: a lane table for this small strip.
+        let lanes = state_after_with(&problem, 40.0, 1, Some(LANE_TABLE_MAX_BYTES));
+        assert_eq!(lanes, with);
     }
 
     /// Reordering moves every particle's values together, keeps each id

@@ -219,6 +219,10 @@ pub struct Row {
     pub forces_ns_per_lane: f64,
     pub forces_lane_bound_ns: f64,
     pub lane_use: f64,
+    /// Where the force pass read (dW/dq)/q: "lanes" (the window-lane
+    /// table) or "pairs" (gathered from the pair table,
+    /// [`crate::solver::neighbours::NeighbourList::lane_table`]).
+    pub force_g: &'static str,
     /// The step's core-nanoseconds per particle (its wall time x the cores
     /// used / particles), and the least the two pair passes' own arithmetic
     /// allows as the solver runs them: every own pair's kernel at the
@@ -492,6 +496,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     forces_ns_per_lane: core_ns_per(2, r.fluid_window_lanes),
                     forces_lane_bound_ns,
                     lane_use: r.fluid_listed_lanes as f64 / r.fluid_window_lanes as f64,
+                    force_g: if r.lane_table { "lanes" } else { "pairs" },
                     core_ns_per_particle_step: per_step * cores_used / particles as f64 * 1e9,
                     floor_core_ns_per_particle_step: (floor_kernel + floor_forces)
                         / particles as f64,

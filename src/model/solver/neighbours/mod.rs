@@ -32,6 +32,19 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
+/// The largest window-lane table ([`NeighbourList::lane_table`]), 8 bytes
+/// a lane and LANES lanes a window. Beyond it the table (written by two
+/// scattered stores a pair in the kernel pass, read back in the force
+/// pass) leaves the caches, and the force pass gathers each window's
+/// (dW/dq)/q from the pair table instead, which moves fewer bytes; below
+/// it the table's contiguous loads win. Both forms side by side on
+/// `bench --disordered` (1 thread, 2 alternating rounds on the 2-core AMD
+/// EPYC with 32 MB of last-level cache,
+/// bench/peers/results/2026-12-05-force-pass-gather/): the gather 0.86-0.94
+/// times as fast at 1e3-1e4 particles (tables up to 3.5 MB), 1.03-1.06 at
+/// 3e4 (about 10 MB), 1.05-1.08 at 5e4 (16 MB).
+pub const LANE_TABLE_MAX_BYTES: usize = 8 << 20;
+
 /// Particles per parallel task when building.
 const BUILD_CHUNK: usize = 64;
 
@@ -60,8 +73,14 @@ pub struct NeighbourList {
     /// lane not listed): `win_sources[w]` for `windows[w]`.
     win_sources: Vec<[u32; LANES]>,
     /// For each own pair (the pair table's place s), the two window lanes
-    /// that list it, as LANES w + l: `lane_of[2 s]` and `lane_of[2 s + 1]`.
+    /// that list it, as LANES w + l: `lane_of[2 s]` and `lane_of[2 s + 1]`
+    /// (empty when the list has no lane table, [`Self::lane_table`]).
     lane_of: Vec<u32>,
+    /// Whether the force pass reads (dW/dq)/q from a window-lane table
+    /// ([`Self::lane_table`]), and the largest table it may have (none
+    /// set: [`LANE_TABLE_MAX_BYTES`]).
+    lane_table: bool,
+    lane_table_max: Option<usize>,
     /// This build's number, unique among all lists' builds in the process
     /// ([`Self::generation`]).
     generation: u64,
@@ -167,6 +186,23 @@ impl NeighbourList {
     /// force pass loads a window's as one vector.
     pub fn lanes_of_pairs(&self) -> &[u32] {
         &self.lane_of
+    }
+
+    /// Whether the force pass reads each window's (dW/dq)/q as one vector
+    /// from a window-lane table the kernel pass fills
+    /// ([`Self::lanes_of_pairs`]), or gathers it from the pair table
+    /// through [`Self::window_sources`]. The same values in the same lanes,
+    /// so the same bits either way; the table is contiguous loads where it
+    /// stays in cache, the gather moves fewer bytes where it does not
+    /// ([`LANE_TABLE_MAX_BYTES`]).
+    pub fn lane_table(&self) -> bool {
+        self.lane_table
+    }
+
+    /// The largest window-lane table the next builds may make, in bytes
+    /// (0: none; for the tests that compare the two forms).
+    pub fn set_lane_table_max(&mut self, bytes: usize) {
+        self.lane_table_max = Some(bytes);
     }
 
     /// This build's number: unique among every list's builds in the
@@ -330,7 +366,13 @@ impl NeighbourList {
         self.fill_own_stream();
         self.find_sources();
         self.fill_windows();
-        self.find_lanes();
+        let most = self.lane_table_max.unwrap_or(LANE_TABLE_MAX_BYTES);
+        self.lane_table = self.windows.len() * LANES * size_of::<f64>() <= most;
+        if self.lane_table {
+            self.find_lanes();
+        } else {
+            self.lane_of = Vec::new();
+        }
         static BUILDS: AtomicU64 = AtomicU64::new(0);
         self.generation = BUILDS.fetch_add(1, Ordering::Relaxed) + 1;
         self.rebuilds += 1;

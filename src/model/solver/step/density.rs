@@ -118,6 +118,29 @@ pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, params
         s.pair_w.resize(pairs + 1, 0.0);
         s.pair_w[pairs] = 0.0;
     }
+    let n = s.x.len();
+    let input = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, params);
+    let (entries, owners) = list.own_stream();
+    if !list.lane_table() {
+        // (dW/dq)/q beside W in the pair table, for the force pass to
+        // gather ([`NeighbourList::lane_table`]).
+        if s.pair_g.len() != pairs + 1 {
+            s.pair_g.clear();
+            s.pair_g.resize(pairs + 1, 0.0);
+        }
+        s.lane_g = Vec::new();
+        s.lane_generation = list.generation();
+        (
+            s.pair_w[..pairs].par_chunks_mut(STREAM_CHUNK),
+            s.pair_g[..pairs].par_chunks_mut(STREAM_CHUNK),
+            entries.par_chunks(STREAM_CHUNK),
+            owners.par_chunks(STREAM_CHUNK),
+        )
+            .into_par_iter()
+            .for_each(|(w, g, e, o)| pair_table_chunk_on::<K>(isa, (w, g), e, o, &input));
+        return;
+    }
+    s.pair_g = Vec::new();
     // The window-lane table, zeroed for each new list: a lane not listed is
     // never written and stays 0.
     if s.lane_generation != list.generation() {
@@ -125,9 +148,6 @@ pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, params
         s.lane_g.resize(list.window_count() * LANES, 0.0);
         s.lane_generation = list.generation();
     }
-    let n = s.x.len();
-    let input = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, params);
-    let (entries, owners) = list.own_stream();
     let lane_g = as_atomic(&mut s.lane_g);
     let lanes = list.lanes_of_pairs();
     (
@@ -262,6 +282,27 @@ pub(super) fn kernel_chunk<K: Kernel>(
     }
 }
 
+/// W and (dW/dq)/q of one piece of the pair table's stream into the pair
+/// table's places, for a list without a lane table (the force pass gathers
+/// (dW/dq)/q, [`NeighbourList::lane_table`]).
+#[inline(always)]
+pub(super) fn pair_table_chunk<K: Kernel>(
+    out: (&mut [f64], &mut [f64]),
+    entries: &[u32],
+    owners: &[u32],
+    input: &DensityIn,
+) {
+    pair_kernel::<K>(
+        entries,
+        owners,
+        (input.x, input.y),
+        input.width,
+        input.params.inv_h2,
+        out,
+        &mut ([0.0; BLOCK], [0.0; BLOCK]),
+    );
+}
+
 /// One task's outputs: rho, P, m/rho, P/rho^2.
 pub(super) type DensityOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
@@ -319,6 +360,16 @@ fn eos(
         *v = params.mass / r;
         *q = p / (r * r);
     }
+}
+
+on_isa! {
+    /// [`pair_table_chunk`] compiled for the instruction set `isa`.
+    pub(super) fn pair_table_chunk_on[K: Kernel] => pair_table_chunk[K](
+        out: (&mut [f64], &mut [f64]),
+        entries: &[u32],
+        owners: &[u32],
+        input: &DensityIn
+    )
 }
 
 on_isa! {

@@ -69,9 +69,8 @@ pub(super) struct ForceArgs<'a> {
     pub i: usize,
     /// Its list as windows of consecutive indices.
     pub windows: &'a [Window],
-    /// The windows' lanes' (dW/dq)/q, LANES a window (0 in a lane not
-    /// listed).
-    pub lane_g: &'a [f64],
+    /// The windows' lanes' (dW/dq)/q ([`WindowG`]).
+    pub g: WindowG<'a>,
     /// Positions (x, y).
     pub xs: (&'a [f64], &'a [f64]),
     /// Velocities (vx, vy) predicted at the step's end.
@@ -85,6 +84,19 @@ pub(super) struct ForceArgs<'a> {
     /// The strip's width, for the images' offsets.
     pub width: f64,
     pub scales: Scales,
+}
+
+/// Where the force pass finds a particle's windows' (dW/dq)/q
+/// ([`NeighbourList::lane_table`]): LANES a window in the window-lane
+/// table (0 in a lane not listed), or gathered from the pair table through
+/// each window's sources (the zero place for a lane not listed).
+#[derive(Clone, Copy)]
+pub(super) enum WindowG<'a> {
+    Lanes(&'a [f64]),
+    Gather {
+        sources: &'a [[u32; LANES]],
+        pair_g: &'a [f64],
+    },
 }
 
 /// LANES consecutive values from `start`: one contiguous load.
@@ -104,11 +116,13 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 /// state that is not finite fails the run at this step anyway
 /// ([`Forces::finite`]).
 #[inline(always)]
-pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -> (f64, f64) {
+pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool>(
+    args: ForceArgs,
+) -> (f64, f64) {
     let ForceArgs {
         i,
         windows,
-        lane_g,
+        g,
         xs,
         vs,
         pressure_term,
@@ -122,18 +136,32 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool>(args: ForceArgs) -
     let n = x.len();
     assert!(n > i && y.len() == n && v_pred_x.len() == n && v_pred_y.len() == n);
     assert!(pressure_term.len() == n && vol.len() == n && (!MIRROR || depth.len() == n));
-    assert!(lane_g.len() == windows.len() * LANES);
+    let (lane_g, sources, pair_g) = match g {
+        WindowG::Lanes(lane_g) => (lane_g, &[][..], &[0.0][..]),
+        WindowG::Gather { sources, pair_g } => (&[][..], sources, pair_g),
+    };
+    assert!(GATHER == matches!(g, WindowG::Gather { .. }));
+    assert!(GATHER || lane_g.len() == windows.len() * LANES);
+    assert!(!GATHER || (sources.len() == windows.len() && !pair_g.is_empty()));
+    // Clamped in 32 bits: a vector gather, no bounds check (a source is in
+    // the table by construction of the list anyway).
+    let last = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], v_pred_x[i], v_pred_y[i], pressure_term[i]);
     let beta_cap = scales.beta_max - 1.0;
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
-    for (win, g) in windows.iter().zip(lane_g.chunks_exact(LANES)) {
+    for (k, win) in windows.iter().enumerate() {
+        let g: [f64; LANES] = if GATHER {
+            let src = &sources[k];
+            std::array::from_fn(|l| pair_g[src[l].min(last) as usize])
+        } else {
+            *lanes(lane_g, k * LANES)
+        };
         let start = win.start as usize;
         let (xw, yw) = (lanes(x, start), lanes(y, start));
         let (vxw, vyw) = (lanes(v_pred_x, start), lanes(v_pred_y, start));
         let (pqw, volw) = (lanes(pressure_term, start), lanes(vol, start));
         let depthw = if MIRROR { lanes(depth, start) } else { xw };
-        let g: &[f64; LANES] = g.try_into().expect("whole windows");
         // A window whose every lane has g = 0 (its pairs out of the
         // kernel's support this step: listed for the skin, or at R h
         // exactly; on a square lattice at h = d a row or two of every
@@ -210,10 +238,11 @@ pub(crate) fn forces(s: &mut State, list: &NeighbourList, params: &Params, half_
     // finds too little work a lane to pay for the gather of (dW/dq)/q):
     // 1.6x the whole run on one thread (measured with `shearsph bench`).
     let mirror = params.mirror_walls || !params.has_av;
+    let gather = !list.lane_table();
     let f = if params.symmetric {
-        with_av::<true>(params.has_av, mirror)
+        with_av::<true>(params.has_av, mirror, gather)
     } else {
-        with_av::<false>(params.has_av, mirror)
+        with_av::<false>(params.has_av, mirror, gather)
     };
     f(s, list, params, half_dt, isa)
 }
@@ -223,23 +252,38 @@ type ForcesFn = fn(&mut State, &NeighbourList, &Params, f64, Isa) -> Forces;
 
 /// The flags made constants one at a time, each level two arms: a new flag
 /// is one more level, not twice the table.
-fn with_av<const SYMMETRIC: bool>(av: bool, mirror: bool) -> ForcesFn {
+fn with_av<const SYMMETRIC: bool>(av: bool, mirror: bool, gather: bool) -> ForcesFn {
     if av {
-        with_mirror::<SYMMETRIC, true>(mirror)
+        with_mirror::<SYMMETRIC, true>(mirror, gather)
     } else {
-        with_mirror::<SYMMETRIC, false>(mirror)
+        with_mirror::<SYMMETRIC, false>(mirror, gather)
     }
 }
 
-fn with_mirror<const SYMMETRIC: bool, const AV: bool>(mirror: bool) -> ForcesFn {
+fn with_mirror<const SYMMETRIC: bool, const AV: bool>(mirror: bool, gather: bool) -> ForcesFn {
     if mirror {
-        forces_with::<SYMMETRIC, AV, true>
+        with_gather::<SYMMETRIC, AV, true>(gather)
     } else {
-        forces_with::<SYMMETRIC, AV, false>
+        with_gather::<SYMMETRIC, AV, false>(gather)
     }
 }
 
-pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
+fn with_gather<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
+    gather: bool,
+) -> ForcesFn {
+    if gather {
+        forces_with::<SYMMETRIC, AV, MIRROR, true>
+    } else {
+        forces_with::<SYMMETRIC, AV, MIRROR, false>
+    }
+}
+
+pub(super) fn forces_with<
+    const SYMMETRIC: bool,
+    const AV: bool,
+    const MIRROR: bool,
+    const GATHER: bool,
+>(
     s: &mut State,
     list: &NeighbourList,
     params: &Params,
@@ -269,7 +313,14 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
         vol,
         depth,
         pressure_term,
-        lane_g: &s.lane_g,
+        g: if GATHER {
+            WindowG::Gather {
+                sources: &[],
+                pair_g: &s.pair_g,
+            }
+        } else {
+            WindowG::Lanes(&s.lane_g)
+        },
         list,
         width: list.width(),
         params,
@@ -283,7 +334,7 @@ pub(super) fn forces_with<const SYMMETRIC: bool, const AV: bool, const MIRROR: b
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR>(isa, c, out, &input))
+        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR, GATHER>(isa, c, out, &input))
         .reduce(|| Forces::NONE, Forces::merge)
 }
 
@@ -298,8 +349,9 @@ pub(super) struct ForcesIn<'a> {
     depth: &'a [f64],
     /// P (paper form) or P / rho^2 (symmetric).
     pressure_term: &'a [f64],
-    /// (dW/dq)/q of every window lane.
-    lane_g: &'a [f64],
+    /// (dW/dq)/q of every window lane, or the pair table's to gather
+    /// (each particle's sources taken from the list).
+    g: WindowG<'a>,
     list: &'a NeighbourList,
     width: f64,
     params: &'a Params,
@@ -315,7 +367,12 @@ pub(super) type ForcesOut<'a> = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'
 /// the kick and the checks (in lanes again). Each particle's operations are
 /// those of one loop doing all three, in the same order: the same bits.
 #[inline(always)]
-pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: bool>(
+pub(super) fn forces_chunk<
+    const SYMMETRIC: bool,
+    const AV: bool,
+    const MIRROR: bool,
+    const GATHER: bool,
+>(
     c: usize,
     out: ForcesOut,
     input: &ForcesIn,
@@ -357,7 +414,15 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
         let args = ForceArgs {
             i,
             windows,
-            lane_g: &input.lane_g[first..first + windows.len() * LANES],
+            g: match input.g {
+                WindowG::Lanes(lane_g) => {
+                    WindowG::Lanes(&lane_g[first..first + windows.len() * LANES])
+                }
+                WindowG::Gather { pair_g, .. } => WindowG::Gather {
+                    sources: input.list.window_sources(i),
+                    pair_g,
+                },
+            },
             xs: (input.x, input.y),
             vs: (input.v_pred_x, input.v_pred_y),
             pressure_term: input.pressure_term,
@@ -366,7 +431,7 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
             width: input.width,
             scales,
         };
-        (sum_x[k], sum_y[k]) = pair_forces::<AV, MIRROR>(args);
+        (sum_x[k], sum_y[k]) = pair_forces::<AV, MIRROR, GATHER>(args);
     }
     let mut seen = Forces::NONE;
     let (mut a2_max, mut v2_max, mut all) = (0.0f64, 0.0f64, 0.0);
@@ -393,15 +458,23 @@ pub(super) fn forces_chunk<const SYMMETRIC: bool, const AV: bool, const MIRROR: 
 
 on_isa! {
     /// [`forces_chunk`] compiled for the instruction set `isa`.
-    pub(super) fn forces_chunk_on[const SYMMETRIC: bool, const AV: bool, const MIRROR: bool]
-        => forces_chunk[SYMMETRIC, AV, MIRROR](c: usize, out: ForcesOut, input: &ForcesIn) -> Forces
+    pub(super) fn forces_chunk_on[
+        const SYMMETRIC: bool,
+        const AV: bool,
+        const MIRROR: bool,
+        const GATHER: bool
+    ] => forces_chunk[SYMMETRIC, AV, MIRROR, GATHER](
+        c: usize,
+        out: ForcesOut,
+        input: &ForcesIn
+    ) -> Forces
 }
 
 on_isa! {
     /// [`pair_forces`] alone, for the test that compares instruction sets.
     #[cfg(test)]
-    pub(super) fn pair_forces_on[const AV: bool, const MIRROR: bool]
-        => pair_forces[AV, MIRROR](args: ForceArgs) -> (f64, f64)
+    pub(super) fn pair_forces_on[const AV: bool, const MIRROR: bool, const GATHER: bool]
+        => pair_forces[AV, MIRROR, GATHER](args: ForceArgs) -> (f64, f64)
 }
 
 #[cfg(test)]

@@ -51,6 +51,11 @@ pub(crate) struct State {
     /// force pass has no distance test and no kernel.
     pub lane_g: Vec<f64>,
     pub lane_generation: u64,
+    /// Or, for a list without a lane table
+    /// ([`NeighbourList::lane_table`]), (dW/dq)/q in the pair table's
+    /// places as W is, with the zero place after them, for the force pass
+    /// to gather.
+    pub pair_g: Vec<f64>,
 }
 
 impl State {
@@ -107,6 +112,7 @@ impl State {
             pair_w: Vec::new(),
             lane_g: Vec::new(),
             lane_generation: u64::MAX,
+            pair_g: Vec::new(),
         }
     }
 
@@ -132,7 +138,8 @@ impl State {
         .iter()
         .map(|v| v.capacity())
         .sum::<usize>();
-        (f64s + self.pair_w.capacity() + self.lane_g.capacity()) * size_of::<f64>()
+        (f64s + self.pair_w.capacity() + self.lane_g.capacity() + self.pair_g.capacity())
+            * size_of::<f64>()
             + (self.layer.capacity() + self.id.capacity()) * size_of::<u32>()
     }
 

@@ -60,13 +60,31 @@ impl Fixture {
             .collect()
     }
 
-    /// Particle 0's force inputs with the lanes' (dW/dq)/q `lane_g`,
-    /// its y as the walls' depths (>= 0).
-    fn args<'a>(&'a self, lane_g: &'a [f64], scales: Scales) -> ForceArgs<'a> {
+    /// The windows' sources as the list gives them to the gathering form:
+    /// the zero place `zero` for a lane not listed.
+    fn gather_sources(&self, zero: u32) -> Vec<[u32; LANES]> {
+        self.windows
+            .iter()
+            .zip(&self.sources)
+            .map(|(w, src)| {
+                std::array::from_fn(|l| {
+                    if w.mask() & (1 << l) != 0 {
+                        src[l]
+                    } else {
+                        zero
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Particle 0's force inputs with the windows' (dW/dq)/q `g`, its y
+    /// as the walls' depths (>= 0).
+    fn args<'a>(&'a self, g: WindowG<'a>, scales: Scales) -> ForceArgs<'a> {
         ForceArgs {
             i: 0,
             windows: &self.windows[..],
-            lane_g,
+            g,
             xs: (&self.x[..], &self.y[..]),
             vs: (&self.v[..], &self.v[..]),
             pressure_term: &self.v[..],
@@ -115,7 +133,21 @@ fn pair_loops_give_the_same_bits_on_every_isa() {
         pair_kernel_on::<Morris>(isa, &entries, &owners, xs, f.width, 0.5, out, scratch);
         let w_sum = pair_gather_on(isa, &sources, (0, 0), &w);
         let lane_g = f.lane_g(&pg);
-        let force = pair_forces_on::<true, true>(isa, f.args(&lane_g, test_scales(0.9, 3.0)));
+        let scales = test_scales(0.9, 3.0);
+        let force =
+            pair_forces_on::<true, true, false>(isa, f.args(WindowG::Lanes(&lane_g), scales));
+        // The gathering form: the same values in the same lanes.
+        let sources = f.gather_sources(40);
+        let gather = WindowG::Gather {
+            sources: &sources,
+            pair_g: &pg,
+        };
+        let gathered = pair_forces_on::<true, true, true>(isa, f.args(gather, scales));
+        assert_eq!(
+            (gathered.0.to_bits(), gathered.1.to_bits()),
+            (force.0.to_bits(), force.1.to_bits()),
+            "{isa:?}: gathered as the lane table"
+        );
         let mut bits: Vec<u64> = w.iter().chain(&pg).map(|v| v.to_bits()).collect();
         bits.extend([w_sum.to_bits(), force.0.to_bits(), force.1.to_bits()]);
         bits
@@ -162,11 +194,11 @@ fn windows_whose_every_g_is_zero_add_nothing() {
         let run = |(windows, lane_g): (&[Window], &[f64])| {
             let args = ForceArgs {
                 windows,
-                ..f.args(lane_g, scales)
+                ..f.args(WindowG::Lanes(lane_g), scales)
             };
             [
-                bits(pair_forces_on::<false, false>(isa, args)),
-                bits(pair_forces_on::<true, true>(isa, args)),
+                bits(pair_forces_on::<false, false, false>(isa, args)),
+                bits(pair_forces_on::<true, true, false>(isa, args)),
             ]
         };
         let base = run((&f.windows, &lane_g));
@@ -192,13 +224,20 @@ fn the_walls_factor_at_zero_inverse_gap_is_the_loop_without_it() {
     let isas = every_isa();
     for isa in isas {
         for beta_max in [1.0, 3.0] {
-            let without =
-                pair_forces_on::<false, false>(isa, f.args(&lg, test_scales(0.9, beta_max)));
-            let at_zero =
-                pair_forces_on::<false, true>(isa, f.args(&lg, test_scales(0.0, beta_max)));
+            let lanes = WindowG::Lanes(&lg);
+            let without = pair_forces_on::<false, false, false>(
+                isa,
+                f.args(lanes, test_scales(0.9, beta_max)),
+            );
+            let at_zero = pair_forces_on::<false, true, false>(
+                isa,
+                f.args(lanes, test_scales(0.0, beta_max)),
+            );
             assert_eq!(bits(at_zero), bits(without), "{isa:?}, beta_max {beta_max}");
-            let mirrored =
-                pair_forces_on::<false, true>(isa, f.args(&lg, test_scales(0.9, beta_max)));
+            let mirrored = pair_forces_on::<false, true, false>(
+                isa,
+                f.args(lanes, test_scales(0.9, beta_max)),
+            );
             assert_eq!(
                 bits(mirrored) == bits(without),
                 beta_max == 1.0,
