@@ -108,10 +108,12 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 }
 
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
-/// loop over its windows ([`Window`]), each window's particle values and
-/// (dW/dq)/q loaded as contiguous vectors (no gather), each lane's term
-/// added into its lane's accumulator, without branches or bounds checks in
-/// the lanes. A lane not listed has g = 0 and adds 0: its terms are finite
+/// loop over its windows ([`Window`]), each window's particle values
+/// loaded as contiguous vectors (no gather) and its (dW/dq)/q so too from
+/// the window-lane table, or (`GATHER`, [`WindowG::Gather`]) gathered from
+/// the pair table: the same values either way. Each lane's term is added
+/// into its lane's accumulator, without branches or bounds checks in the
+/// lanes. A lane not listed has g = 0 and adds 0: its terms are finite
 /// for a finite state (the artificial viscosity's r^2 has a floor). A
 /// state that is not finite fails the run at this step anyway
 /// ([`Forces::finite`]).
