@@ -41,8 +41,10 @@ use rayon::prelude::*;
 /// `bench --disordered` (1 thread, 2 alternating rounds on the 2-core AMD
 /// EPYC with 32 MB of last-level cache,
 /// bench/peers/results/2026-12-05-force-pass-gather/): the gather 0.86-0.94
-/// times as fast at 1e3-1e4 particles (tables up to 3.5 MB), 1.03-1.06 at
-/// 3e4 (about 10 MB), 1.05-1.08 at 5e4 (16 MB).
+/// times as fast at 1e3-1e4 particles, 1.03-1.06 at 3e4, 1.05-1.08 at 5e4
+/// (Monaghan's table there about 3, 9 and 15 MB: the default switches
+/// between 1e4 and 3e4; the composite kernel's tables are smaller). The
+/// crossover is this machine's; another cache size moves it.
 pub const LANE_TABLE_MAX_BYTES: usize = 8 << 20;
 
 /// Particles per parallel task when building.
