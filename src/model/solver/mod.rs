@@ -213,7 +213,10 @@ impl<'p> Sim<'p> {
                 // Bands one layer spacing high, centred on the lattice's
                 // layers: a layer that has kept its place is one band.
                 let low = -lat.b() - 0.5 * lat.dy;
-                self.s.reorder(low, lat.dy, self.block, &mut self.order);
+                let moved = self.s.reorder(low, lat.dy, self.block, &mut self.order);
+                // Particles that moved in storage have left their lattice:
+                // the list is built in its disordered form (the same list).
+                self.list.set_disordered(moved);
             }
             self.list
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);

@@ -81,9 +81,42 @@ pub(super) fn is_own(i: usize, j: u32, shift: i8) -> bool {
 /// j in bits 2-31, shift + 1 in bits 0-1.
 #[inline]
 pub(super) fn list_key(i: usize, j: u32, shift: i8, r2: f64) -> u128 {
-    debug_assert!(r2 >= 0.0 && (j as usize) < Entry::MAX_PARTICLES);
+    // r^2 may be NaN (a blown-up state): its key is never listed.
+    debug_assert!((r2 >= 0.0 || r2.is_nan()) && (j as usize) < Entry::MAX_PARTICLES);
     (u128::from(!is_own(i, j, shift)) << 96)
         | (u128::from(r2.to_bits()) << 32)
         | (u128::from(j) << 2)
         | u128::from((shift + 1) as u8)
+}
+
+/// The longest list part [`sorted_into`] ranks without branches; a longer
+/// one is sorted (its n^2 comparisons would cost more than a sort's
+/// mispredicted branches).
+const RANK_MAX: usize = 24;
+
+/// `keys` in ascending order: `put(k, key)` for the k-th smallest, every k
+/// once (equal keys in their order in `keys`). With `branch_free`, a
+/// short slice is ranked without branches on the keys: each key's place is
+/// the number of keys below it, so a disordered fluid's keys, whose
+/// comparisons go either way, cost no mispredicted branch. Otherwise (and
+/// for a long slice) `keys` is sorted in place: a lattice's keys come in a
+/// pattern that repeats from list to list, which a sort's branches follow.
+#[inline]
+pub(super) fn sorted_into<T: Ord + Copy>(
+    keys: &mut [T],
+    branch_free: bool,
+    mut put: impl FnMut(usize, T),
+) {
+    if branch_free && keys.len() <= RANK_MAX {
+        for (a, &key) in keys.iter().enumerate() {
+            let below = keys[..a].iter().filter(|&&k| k <= key).count()
+                + keys[a + 1..].iter().filter(|&&k| k < key).count();
+            put(below, key);
+        }
+    } else {
+        keys.sort_unstable();
+        for (k, &key) in keys.iter().enumerate() {
+            put(k, key);
+        }
+    }
 }

@@ -83,6 +83,9 @@ pub struct NeighbourList {
     /// set: [`LANE_TABLE_MAX_BYTES`]).
     lane_table: bool,
     lane_table_max: Option<usize>,
+    /// Whether the next builds are of a disordered fluid
+    /// ([`Self::set_disordered`]).
+    disordered: bool,
     /// This build's number, unique among all lists' builds in the process
     /// ([`Self::generation`]).
     generation: u64,
@@ -97,6 +100,28 @@ pub struct NeighbourList {
     near_start: Vec<u32>,
     near: Vec<u32>,
     pub rebuilds: u64,
+}
+
+/// A build task's room for one list: the candidates kept (as entries) and
+/// their r^2, then their keys ([`list_key`]), own and mirrored apart.
+#[derive(Default)]
+struct Scratch {
+    found: Vec<u32>,
+    r2: Vec<f64>,
+    own: Vec<u128>,
+    mirrored: Vec<u128>,
+}
+
+impl Scratch {
+    /// At least `room` of each.
+    fn make_room(&mut self, room: usize) {
+        if self.found.len() < room {
+            self.found.resize(room, 0);
+            self.r2.resize(room, 0.0);
+            self.own.resize(room, 0);
+            self.mirrored.resize(room, 0);
+        }
+    }
 }
 
 impl NeighbourList {
@@ -207,6 +232,15 @@ impl NeighbourList {
         self.lane_table_max = Some(bytes);
     }
 
+    /// Whether the particles the next builds list are disordered (their
+    /// storage order moved at the last reorder, `State::reorder`) rather
+    /// than a lattice: the build then takes its form without branches on
+    /// the distances, which in a disordered fluid go either way. The same
+    /// list in either form; only the time differs.
+    pub fn set_disordered(&mut self, disordered: bool) {
+        self.disordered = disordered;
+    }
+
     /// This build's number: unique among every list's builds in the
     /// process, so a table filled for one build is known to be stale for
     /// any other.
@@ -269,38 +303,110 @@ impl NeighbourList {
         let cutoff2 = cutoff * cutoff;
 
         // Every neighbour of i: the particles of the cells within one cell
-        // of i's, through every image, into `found` as the keys its list
-        // is sorted by ([`list_key`]).
-        let visit = |i: usize, found: &mut Vec<u128>| {
+        // of i's, through every image, as the keys its list is sorted by
+        // ([`list_key`]): i's own entries as `scratch.own[..o]` and the
+        // mirrored ones as `scratch.mirrored[..m]`, or all in
+        // `scratch.own[..o + m]`, own first (`together`); returns (o, m,
+        // together). Two forms, the same entries. On a lattice the
+        // distance tests come in a pattern that repeats from particle to
+        // particle, which branch prediction follows: each candidate is
+        // tested, each image in turn. In a disordered fluid
+        // (`self.disordered`) they go either way, and a mispredicted
+        // branch costs more than the work it skips: there, on a strip
+        // wider than 2.5 cutoffs, only a candidate's nearest image is
+        // tried (the others are more than half the width away), and each
+        // candidate is written and kept (counted) only if it is within the
+        // cutoff, with no branch on its distance.
+        let branch_free = self.disordered && width > 2.5 * cutoff;
+        let half = 0.5 * width;
+        let visit = |i: usize, scratch: &mut Scratch| -> (usize, usize, bool) {
             let (xi, yi) = (x[i], y[i]);
             let (by, bx) = grid.cell(xi, yi);
-            for row in by.saturating_sub(1)..(by + 2).min(grid.rows) {
+            let rows = by.saturating_sub(1)..(by + 2).min(grid.rows);
+            if !branch_free {
+                let found = &mut scratch.own;
+                found.clear();
+                for row in rows {
+                    for k in grid.columns_near(bx) {
+                        let cell = row * grid.columns + k;
+                        let items =
+                            &bin_items[bin_start[cell] as usize..bin_start[cell + 1] as usize];
+                        for &j in items {
+                            let dy = yi - y[j as usize];
+                            let dy2 = dy * dy;
+                            // r^2 >= dy^2 as computed (adding dx^2 >= 0
+                            // rounds to no less): a particle too far in y
+                            // is out through every image.
+                            if dy2 > cutoff2 {
+                                continue;
+                            }
+                            let dx0 = xi - x[j as usize];
+                            for shift in -1i8..=1 {
+                                if shift == 0 && j as usize == i {
+                                    continue;
+                                }
+                                let dx = dx0 + f64::from(shift) * width;
+                                let r2 = dx * dx + dy2;
+                                if r2 <= cutoff2 {
+                                    found.push(list_key(i, j, shift, r2));
+                                }
+                            }
+                        }
+                    }
+                }
+                // Own entries first (their keys are the smaller).
+                let mut own_count = 0;
+                for m in 0..found.len() {
+                    if found[m] >> 96 == 0 {
+                        found.swap(own_count, m);
+                        own_count += 1;
+                    }
+                }
+                return (own_count, found.len() - own_count, true);
+            }
+            let mut room = 0;
+            for row in rows.clone() {
+                for k in grid.columns_near(bx) {
+                    let cell = row * grid.columns + k;
+                    room += (bin_start[cell + 1] - bin_start[cell]) as usize;
+                }
+            }
+            scratch.make_room(room);
+            let (found, r2s) = (&mut scratch.found[..room], &mut scratch.r2[..room]);
+            let mut n = 0;
+            for row in rows {
                 for k in grid.columns_near(bx) {
                     let cell = row * grid.columns + k;
                     let items = &bin_items[bin_start[cell] as usize..bin_start[cell + 1] as usize];
                     for &j in items {
                         let dy = yi - y[j as usize];
-                        let dy2 = dy * dy;
-                        // r^2 >= dy^2 as computed (adding dx^2 >= 0 rounds
-                        // to no less): a particle too far in y is out
-                        // through every image.
-                        if dy2 > cutoff2 {
-                            continue;
-                        }
                         let dx0 = xi - x[j as usize];
-                        for shift in -1i8..=1 {
-                            if shift == 0 && j as usize == i {
-                                continue;
-                            }
-                            let dx = dx0 + f64::from(shift) * width;
-                            let r2 = dx * dx + dy2;
-                            if r2 <= cutoff2 {
-                                found.push(list_key(i, j, shift, r2));
-                            }
-                        }
+                        let shift: i8 = if dx0 > half {
+                            -1
+                        } else if dx0 < -half {
+                            1
+                        } else {
+                            0
+                        };
+                        let dx = dx0 + f64::from(shift) * width;
+                        let r2 = dx * dx + dy * dy;
+                        found[n] = Entry::pack(j as usize, shift);
+                        r2s[n] = r2;
+                        n += usize::from((r2 <= cutoff2) & (shift != 0 || j as usize != i));
                     }
                 }
             }
+            let (mut n_own, mut n_mirrored) = (0, 0);
+            for (&e, &r2) in found[..n].iter().zip(&r2s[..n]) {
+                let (j, shift) = (e & Entry::INDEX_MASK, Entry::image(e) as i8 - 1);
+                let key = list_key(i, j, shift, r2);
+                let mine = is_own(i, j, shift);
+                scratch.own[n_own] = key;
+                scratch.mirrored[n_mirrored] = key;
+                n_own += usize::from(mine);
+                n_mirrored += usize::from(!mine);
+            }
+            (n_own, n_mirrored, false)
         };
 
         // One pass with the last build's stride; a second only when some
@@ -318,41 +424,41 @@ impl NeighbourList {
                 .zip(count.par_iter_mut().zip(own.par_iter_mut()))
                 .with_min_len(BUILD_CHUNK)
                 .enumerate()
-                .map_init(Vec::new, |found, (i, (entries, (c, o)))| {
-                    found.clear();
-                    visit(i, found);
-                    *c = found.len() as u32;
-                    // Own entries first (their keys are the smaller): each
-                    // part then sorts alone, two short sorts instead of a
-                    // long one, to the same order.
-                    let mut own_count = 0;
-                    for m in 0..found.len() {
-                        if found[m] >> 96 == 0 {
-                            found.swap(own_count, m);
-                            own_count += 1;
-                        }
-                    }
+                .map_init(Scratch::default, |scratch, (i, (entries, (c, o)))| {
+                    let (own_count, mirrored_count, together) = visit(i, scratch);
+                    let len = own_count + mirrored_count;
+                    *c = len as u32;
                     *o = own_count as u32;
-                    if padded(found.len()) <= stride {
+                    if padded(len) <= stride {
                         // Own entries first ([`Self::own`]), then the
                         // mirrored ones; each nearest first: the kernels'
                         // piece tests then come in runs, which branch
-                        // prediction follows, for as long as the list lives
-                        // (particles move less than the skin). Ties by
-                        // index and image, so that the order does not
+                        // prediction follows, for as long as the list
+                        // lives (particles move less than the skin). Ties
+                        // by index and image, so that the order does not
                         // depend on the order of visiting ([`list_key`]).
-                        found[..own_count].sort_unstable();
-                        found[own_count..].sort_unstable();
-                        for (slot, &key) in entries.iter_mut().zip(found.iter()) {
+                        let pack = |key: u128| {
                             let (j, shift) =
                                 ((key >> 2) as u32 & Entry::INDEX_MASK, (key & 3) as i8 - 1);
-                            *slot = Entry::pack(j as usize, shift);
-                        }
-                        for slot in &mut entries[found.len()..padded(found.len())] {
+                            Entry::pack(j as usize, shift)
+                        };
+                        let (own, mirrored) = if together {
+                            scratch.own[..len].split_at_mut(own_count)
+                        } else {
+                            (
+                                &mut scratch.own[..own_count],
+                                &mut scratch.mirrored[..mirrored_count],
+                            )
+                        };
+                        sorted_into(own, !together, |k, key| entries[k] = pack(key));
+                        sorted_into(mirrored, !together, |k, key| {
+                            entries[own_count + k] = pack(key);
+                        });
+                        for slot in &mut entries[len..padded(len)] {
                             *slot = Entry::padding(i);
                         }
                     }
-                    found.len()
+                    len
                 })
                 .max()
                 .unwrap_or(0);
@@ -412,7 +518,7 @@ mod grid;
 mod stale;
 mod windows;
 
-use entry::list_key;
+use entry::{is_own, list_key, sorted_into};
 pub use entry::{padded, Entry, LANES};
 pub use stale::Displacements;
 pub use windows::Window;

@@ -176,6 +176,79 @@ mod lists {
         }
     }
 
+    /// The two forms of a build (a lattice's, with branches on the
+    /// distances; a disordered fluid's, without) give the same list, entry
+    /// for entry: the same order, sources, windows and lanes. On narrow
+    /// strips (every image tried), strips binned in x (the nearest image
+    /// alone), and with particles on the columns' and the strip's edges.
+    #[test]
+    fn both_forms_of_a_build_give_the_same_list() {
+        for (columns, cutoff) in [
+            (3u32, 2.3),
+            (5, 2.3),
+            (6, 2.3),
+            (7, 2.3),
+            (12, 2.3),
+            (40, 3.0),
+        ] {
+            let mut l = LatticeGeometry::new(crate::kernel::Lattice::Triangular, 3, 1.0, 1.0, 2.0);
+            l.columns = columns;
+            l.width = f64::from(columns);
+            let (mut x, mut y, _) = l.positions();
+            jitter(&mut x, &mut y, l.width, 0.9, 0.45);
+            x[0] = 0.0;
+            x[1] = l.width * (1.0 - f64::EPSILON);
+            x[2] = 0.5 * l.width;
+            let build = |disordered: bool| {
+                let mut list = NeighbourList::default();
+                list.set_disordered(disordered);
+                list.build(&x, &y, l.width, cutoff, l.columns as usize);
+                list
+            };
+            let (a, b) = (build(false), build(true));
+            for i in 0..x.len() {
+                assert_eq!(a.of(i), b.of(i), "{columns} columns, particle {i}");
+                assert_eq!(a.own(i), b.own(i));
+                assert_eq!(a.sources_padded(i), b.sources_padded(i));
+                assert_eq!(a.windows(i), b.windows(i));
+                assert_eq!(a.window_sources(i), b.window_sources(i));
+            }
+            assert_eq!(a.lanes_of_pairs(), b.lanes_of_pairs());
+            check_lists(&b, &x, &y, l.width, cutoff);
+        }
+    }
+
+    /// Both forms of [`entry::sorted_into`] put every key once, in order,
+    /// equal keys in their given order; short slices and long.
+    #[test]
+    fn sorted_into_puts_the_keys_in_order() {
+        for len in [0usize, 1, 2, 7, 24, 25, 40] {
+            let keys: Vec<(u32, usize)> = (0..len).map(|k| (((k * 7919) % 11) as u32, k)).collect();
+            let mut want = keys.clone();
+            want.sort();
+            for branch_free in [false, true] {
+                let mut got = vec![None; len];
+                let mut work = keys.clone();
+                entry::sorted_into(&mut work, branch_free, |k, key| {
+                    assert!(got[k].replace(key).is_none(), "place {k} put twice");
+                });
+                let got: Vec<_> = got
+                    .into_iter()
+                    .map(|k| k.expect("every place put"))
+                    .collect();
+                assert_eq!(got, want, "{len} keys, branch_free {branch_free}");
+                // Equal first fields keep their given order (the second).
+                let firsts: Vec<u32> = keys.iter().map(|k| k.0).collect();
+                let mut firsts_sorted = firsts.clone();
+                firsts_sorted.sort();
+                let mut only: Vec<u32> = firsts.clone();
+                entry::sorted_into(&mut only, branch_free, |k, key| {
+                    assert_eq!(key, firsts_sorted[k]);
+                });
+            }
+        }
+    }
+
     #[test]
     fn matches_brute_force_on_a_jittered_lattice() {
         let l = LatticeGeometry::new(crate::kernel::Lattice::Triangular, 5, 1.0, 1.0, 2.0);

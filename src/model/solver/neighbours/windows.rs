@@ -2,6 +2,7 @@
 //! ([`Window`]), their sources and the lanes each pair's kernel value is
 //! written to.
 
+use super::entry::sorted_into;
 use super::*;
 
 /// A piece of a list as LANES consecutive particle indices: the listed
@@ -75,6 +76,7 @@ impl NeighbourList {
         self.source.resize(slots, zero);
         let (entries, count, own, own_start) =
             (&self.entries, &self.count, &self.own, &self.own_start);
+        let branch_free = self.disordered;
         self.source
             .par_chunks_mut(stride)
             .with_min_len(BUILD_CHUNK)
@@ -89,11 +91,33 @@ impl NeighbourList {
                 for (src, &e) in source[o..c].iter_mut().zip(&entries[base + o..base + c]) {
                     let j = Entry::index(e);
                     let mirror = Entry::pack(i, 1 - Entry::image(e) as i8);
+                    // Among j's own entries. On a lattice the search
+                    // stops at the same place list after list, which
+                    // branch prediction follows; in a disordered fluid
+                    // it does not, and the entries are compared LANES at
+                    // a time, as a mask of the equal ones. That padded
+                    // run may reach j's mirrored entries and its padding,
+                    // never the mirror (an own entry of j, listed once).
                     let from = j * stride;
-                    let k = entries[from..from + own[j] as usize]
-                        .iter()
-                        .position(|&m| m == mirror)
-                        .expect("neighbour lists are symmetric");
+                    let k = if !branch_free {
+                        entries[from..from + own[j] as usize]
+                            .iter()
+                            .position(|&m| m == mirror)
+                            .expect("neighbour lists are symmetric")
+                    } else {
+                        entries[from..from + padded(own[j] as usize)]
+                            .chunks_exact(LANES)
+                            .enumerate()
+                            .find_map(|(c, chunk)| {
+                                let equal = chunk
+                                    .iter()
+                                    .enumerate()
+                                    .fold(0u32, |m, (l, &e)| m | u32::from(e == mirror) << l);
+                                (equal != 0).then(|| c * LANES + equal.trailing_zeros() as usize)
+                            })
+                            .filter(|&k| k < own[j] as usize)
+                            .expect("neighbour lists are symmetric")
+                    };
                     *src = own_start[j] + k as u32;
                 }
                 for src in &mut source[c..] {
@@ -118,14 +142,16 @@ impl NeighbourList {
         let zero = self.own_entries.len() as u32;
         let stride = self.stride;
         let (entries, source, count, own) = (&self.entries, &self.source, &self.count, &self.own);
+        let branch_free = self.disordered;
         // Per task of BUILD_CHUNK particles, their windows in one vector
         // and each one's count: two allocations a task, not one a particle
         // (on several threads, allocations per particle contend for the
         // allocator's lock).
         type Task = (Vec<u32>, Vec<Window>, Vec<[u32; LANES]>);
+        type Keys = (Vec<u64>, Vec<u64>);
         let per: Vec<Task> = (0..n.div_ceil(BUILD_CHUNK))
             .into_par_iter()
-            .map_init(Vec::new, |slots, task| {
+            .map_init(Keys::default, |(slots, sorted), task| {
                 let particles = task * BUILD_CHUNK..((task + 1) * BUILD_CHUNK).min(n);
                 let mut counts = Vec::with_capacity(particles.len());
                 let mut out: Vec<Window> = Vec::new();
@@ -149,11 +175,13 @@ impl NeighbourList {
                     // through -W) comes before every own one (j > i, or
                     // i through +W) in this order: each part sorts alone.
                     let o = own[i] as usize;
-                    slots[..o].sort_unstable();
-                    slots[o..].sort_unstable();
-                    slots.rotate_left(o);
+                    sorted.clear();
+                    sorted.resize(c, 0);
+                    let (own_part, mirrored_part) = slots.split_at_mut(o);
+                    sorted_into(mirrored_part, branch_free, |k, key| sorted[k] = key);
+                    sorted_into(own_part, branch_free, |k, key| sorted[c - o + k] = key);
                     let first = out.len();
-                    for &key in slots.iter() {
+                    for &key in sorted.iter() {
                         let (j, image, src) =
                             ((key >> 34) as u32, (key >> 32) as u32 & 3, key as u32);
                         // A lane holds one entry: j seen through two images (a
