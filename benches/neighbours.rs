@@ -1,6 +1,6 @@
 //! One neighbour-list rebuild: the SPHinXsys-matched scene (2760 particles,
 //! Wendland C2 on the square lattice at h = 1.3 d, the scene whose list
-//! rebuilds about every 55 steps) and the `shearsph bench` scene of the same
+//! rebuilds about every 28 steps at the CFL factor 0.5) and the `shearsph bench` scene of the same
 //! kernel at about 10^4 and 10^5 particles, each with its layers sheared
 //! past each other (a parabolic shift of up to 7.3 d in x, wrapped: the
 //! lattice as the flow leaves it between rebuilds), on rayon's default pool;
@@ -8,8 +8,8 @@
 //! strip three channels wide (the `bench --disordered` scene's first size),
 //! each particle moved by up to 0.45 d in x and y (its lattice row order
 //! kept, as the solver keeps a disordered fluid's bands of y), on one
-//! thread, built in its disordered form: there the distance tests go
-//! either way.
+//! thread, as a disordered fluid's build (its form chosen by its cost,
+//! `NeighbourList::set_disordered`): there the distance tests go either way.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use shearsph::bench::{layers_for, scene, sphinxsys_match_problem};

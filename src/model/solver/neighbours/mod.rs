@@ -84,8 +84,11 @@ pub struct NeighbourList {
     lane_table: bool,
     lane_table_max: Option<usize>,
     /// Whether the next builds are of a disordered fluid
-    /// ([`Self::set_disordered`]).
+    /// ([`Self::set_disordered`]), and the form this build takes: without
+    /// branches on the distances or with them ([`Forms`]).
     disordered: bool,
+    branch_free: bool,
+    forms: Forms,
     /// This build's number, unique among all lists' builds in the process
     /// ([`Self::generation`]).
     generation: u64,
@@ -100,6 +103,47 @@ pub struct NeighbourList {
     near_start: Vec<u32>,
     near: Vec<u32>,
     pub rebuilds: u64,
+}
+
+/// The cost of a disordered fluid's build in each form, measured, and the
+/// choice between them: the form without branches on the distances first,
+/// then the other once, then the cheaper of the two, the other again
+/// every [`Forms::RETRY`] builds (a fluid's structure changes as it runs).
+/// Both forms give the same list, so the choice changes no result, only
+/// the time.
+#[derive(Debug, Default)]
+struct Forms {
+    /// ns a particle a build, with branches and without: a running mean
+    /// that halves the weight of the older builds at each new one.
+    cost: [Option<f64>; 2],
+    since_retry: u32,
+}
+
+impl Forms {
+    const RETRY: u32 = 16;
+
+    /// Whether the next build goes without branches on the distances.
+    fn pick(&mut self) -> bool {
+        match self.cost {
+            [_, None] => true,
+            [None, _] => false,
+            [Some(with), Some(without)] => {
+                let cheaper = without <= with;
+                self.since_retry += 1;
+                if self.since_retry >= Self::RETRY {
+                    self.since_retry = 0;
+                    !cheaper
+                } else {
+                    cheaper
+                }
+            }
+        }
+    }
+
+    fn record(&mut self, branch_free: bool, ns: f64) {
+        let cost = &mut self.cost[usize::from(branch_free)];
+        *cost = Some(cost.map_or(ns, |old| 0.5 * (old + ns)));
+    }
 }
 
 /// A build task's room for one list: the candidates kept (as entries) and
@@ -234,9 +278,13 @@ impl NeighbourList {
 
     /// Whether the particles the next builds list are disordered (their
     /// storage order moved at the last reorder, `State::reorder`) rather
-    /// than a lattice: the build then takes its form without branches on
-    /// the distances, which in a disordered fluid go either way. The same
-    /// list in either form; only the time differs.
+    /// than a lattice. A lattice's build takes the form with branches on
+    /// the distances, which branch prediction follows there; a disordered
+    /// fluid's takes whichever form its recent builds found cheaper
+    /// ([`Forms`]): the one without those branches wherever its tests go
+    /// either way, the other where the fluid repeats (a tiling of one
+    /// state, whose pattern the predictor learns). The same list in
+    /// either form; only the time differs.
     pub fn set_disordered(&mut self, disordered: bool) {
         self.disordered = disordered;
     }
@@ -297,6 +345,8 @@ impl NeighbourList {
             Entry::MAX_PARTICLES
         );
         self.width = width;
+        let start = std::time::Instant::now();
+        self.branch_free = self.disordered && self.forms.pick();
         self.find_near_blocks(y, cutoff, block);
         let grid = self.bin_cells(x, y, width, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
@@ -311,13 +361,13 @@ impl NeighbourList {
         // distance tests come in a pattern that repeats from particle to
         // particle, which branch prediction follows: each candidate is
         // tested, each image in turn. In a disordered fluid
-        // (`self.disordered`) they go either way, and a mispredicted
+        // (`self.branch_free`) they go either way, and a mispredicted
         // branch costs more than the work it skips: there, on a strip
         // wider than 2.5 cutoffs, only a candidate's nearest image is
         // tried (the others are more than half the width away), and each
         // candidate is written and kept (counted) only if it is within the
         // cutoff, with no branch on its distance.
-        let branch_free = self.disordered && width > 2.5 * cutoff;
+        let branch_free = self.branch_free && width > 2.5 * cutoff;
         let half = 0.5 * width;
         let visit = |i: usize, scratch: &mut Scratch| -> (usize, usize, bool) {
             let (xi, yi) = (x[i], y[i]);
@@ -480,6 +530,10 @@ impl NeighbourList {
             self.find_lanes();
         } else {
             self.lane_of = Vec::new();
+        }
+        if self.disordered {
+            let ns = start.elapsed().as_secs_f64() * 1e9 / n.max(1) as f64;
+            self.forms.record(self.branch_free, ns);
         }
         static BUILDS: AtomicU64 = AtomicU64::new(0);
         self.generation = BUILDS.fetch_add(1, Ordering::Relaxed) + 1;

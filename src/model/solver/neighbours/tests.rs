@@ -218,6 +218,29 @@ mod lists {
         }
     }
 
+    /// A disordered fluid's build tries the branch-free form, then the
+    /// other, then keeps the cheaper, trying the other again every
+    /// [`Forms::RETRY`] builds.
+    #[test]
+    fn the_cheaper_form_is_kept_and_the_other_retried() {
+        let mut forms = Forms::default();
+        assert!(forms.pick(), "the branch-free form first");
+        forms.record(true, 100.0);
+        assert!(!forms.pick(), "then the other");
+        forms.record(false, 300.0);
+        let picks: Vec<bool> = (0..2 * Forms::RETRY).map(|_| forms.pick()).collect();
+        // The cheaper (branch-free) form, but the other at every RETRY-th.
+        let retried: Vec<usize> = (0..picks.len()).filter(|&k| !picks[k]).collect();
+        let r = Forms::RETRY as usize;
+        assert_eq!(retried, vec![r - 1, 2 * r - 1], "{picks:?}");
+        // The costs are running means: cheaper builds of the other form
+        // tip the choice once its mean is below (300 -> 155 -> 82.5).
+        forms.record(false, 10.0);
+        assert!(forms.pick(), "155 ns is still above 100");
+        forms.record(false, 10.0);
+        assert!(!forms.pick(), "82.5 ns is below 100");
+    }
+
     /// Both forms of [`entry::sorted_into`] put every key once, in order,
     /// equal keys in their given order; short slices and long.
     #[test]

@@ -76,7 +76,7 @@ impl NeighbourList {
         self.source.resize(slots, zero);
         let (entries, count, own, own_start) =
             (&self.entries, &self.count, &self.own, &self.own_start);
-        let branch_free = self.disordered;
+        let branch_free = self.branch_free;
         self.source
             .par_chunks_mut(stride)
             .with_min_len(BUILD_CHUNK)
@@ -142,7 +142,7 @@ impl NeighbourList {
         let zero = self.own_entries.len() as u32;
         let stride = self.stride;
         let (entries, source, count, own) = (&self.entries, &self.source, &self.count, &self.own);
-        let branch_free = self.disordered;
+        let branch_free = self.branch_free;
         // Per task of BUILD_CHUNK particles, their windows in one vector
         // and each one's count: two allocations a task, not one a particle
         // (on several threads, allocations per particle contend for the
