@@ -81,8 +81,7 @@ pub(super) fn is_own(i: usize, j: u32, shift: i8) -> bool {
 /// j in bits 2-31, shift + 1 in bits 0-1.
 #[inline]
 pub(super) fn list_key(i: usize, j: u32, shift: i8, r2: f64) -> u128 {
-    // r^2 may be NaN (a blown-up state): its key is never listed.
-    debug_assert!((r2 >= 0.0 || r2.is_nan()) && (j as usize) < Entry::MAX_PARTICLES);
+    debug_assert!(r2 >= 0.0 && (j as usize) < Entry::MAX_PARTICLES);
     (u128::from(!is_own(i, j, shift)) << 96)
         | (u128::from(r2.to_bits()) << 32)
         | (u128::from(j) << 2)
