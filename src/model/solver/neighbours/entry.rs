@@ -94,7 +94,8 @@ pub(super) fn list_key(i: usize, j: u32, shift: i8, r2: f64) -> u128 {
 const RANK_MAX: usize = 24;
 
 /// `keys` in ascending order: `put(k, key)` for the k-th smallest, every k
-/// once (equal keys in their order in `keys`). With `branch_free`, a
+/// once (equal keys, which the callers' integer keys cannot tell apart,
+/// in some order: the sort is not stable). With `branch_free`, a
 /// short slice is ranked without branches on the keys: each key's place is
 /// the number of keys below it, so a disordered fluid's keys, whose
 /// comparisons go either way, cost no mispredicted branch. Otherwise (and

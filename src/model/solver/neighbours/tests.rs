@@ -241,8 +241,8 @@ mod lists {
         assert!(!forms.pick(), "82.5 ns is below 100");
     }
 
-    /// Both forms of [`entry::sorted_into`] put every key once, in order,
-    /// equal keys in their given order; short slices and long.
+    /// Both forms of [`entry::sorted_into`] put every key once, in order;
+    /// short slices and long, distinct keys and repeated ones.
     #[test]
     fn sorted_into_puts_the_keys_in_order() {
         for len in [0usize, 1, 2, 7, 24, 25, 40] {
@@ -260,7 +260,8 @@ mod lists {
                     .map(|k| k.expect("every place put"))
                     .collect();
                 assert_eq!(got, want, "{len} keys, branch_free {branch_free}");
-                // Equal first fields keep their given order (the second).
+                // Repeated keys (the first fields alone): each place gets
+                // the key a sort puts there.
                 let firsts: Vec<u32> = keys.iter().map(|k| k.0).collect();
                 let mut firsts_sorted = firsts.clone();
                 firsts_sorted.sort();
