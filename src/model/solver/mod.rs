@@ -11,6 +11,46 @@
 //!    the closing kick v += dt/2 a;
 //! 5. the checks for blow-up, every step.
 
+/// Defines `$on(isa, args..)`: `$inner(args..)` compiled for the instruction
+/// set `isa` (AVX-512, AVX2 or the baseline), each a `#[target_feature]`
+/// copy of the same `#[inline(always)]` body, so the results are the same
+/// bits on every CPU. One of the two places the passes meet `unsafe`:
+/// calling a target-feature function is sound because [`step::Isa::detect`] found
+/// the features before any `Isa` other than `Base` exists. (The other: the
+/// kernel pass views its window-lane table as atomics, `density::as_atomic`,
+/// so that its tasks can store into it at once.)
+macro_rules! on_isa {
+    (
+        $(#[$attr:meta])*
+        $vis:vis fn $on:ident [$($gen:tt)*] => $inner:ident [$($targs:tt)*]
+        ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
+    ) => {
+        $(#[$attr])*
+        #[inline(always)]
+        $vis fn $on<$($gen)*>(isa: $crate::solver::step::Isa, $($arg: $ty),*) $(-> $ret)? {
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
+            unsafe fn avx512<$($gen)*>($($arg: $ty),*) $(-> $ret)? {
+                $inner::<$($targs)*>($($arg),*)
+            }
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2")]
+            unsafe fn avx2<$($gen)*>($($arg: $ty),*) $(-> $ret)? {
+                $inner::<$($targs)*>($($arg),*)
+            }
+            match isa {
+                // SAFETY: an `Isa` other than `Base` comes only from
+                // `Isa::detect`, which found the CPU features.
+                #[cfg(target_arch = "x86_64")]
+                $crate::solver::step::Isa::Avx512 => unsafe { avx512::<$($targs)*>($($arg),*) },
+                #[cfg(target_arch = "x86_64")]
+                $crate::solver::step::Isa::Avx2 => unsafe { avx2::<$($targs)*>($($arg),*) },
+                $crate::solver::step::Isa::Base => $inner::<$($targs)*>($($arg),*),
+            }
+        }
+    };
+}
+
 mod diagnostics;
 mod frame;
 pub mod ideal_shear;

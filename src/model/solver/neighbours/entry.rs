@@ -1,6 +1,8 @@
 //! A list's slot: a neighbour's index and the periodic image it was found
 //! through, in one u32, and the key a list is sorted by.
 
+use super::super::step::Isa;
+
 /// Lists are padded to a multiple of this many entries (with
 /// [`Entry::padding`]) so the pair loops run in whole groups of lanes.
 pub const LANES: usize = 8;
@@ -88,10 +90,74 @@ pub(super) fn list_key(i: usize, j: u32, shift: i8, r2: f64) -> u128 {
         | u128::from((shift + 1) as u8)
 }
 
-/// The longest list part [`sorted_into`] ranks without branches; a longer
-/// one is sorted (its n^2 comparisons would cost more than a sort's
-/// mispredicted branches).
-const RANK_MAX: usize = 24;
+/// The longest list part [`sorted_into`] and [`ranks`] rank without
+/// branches; a longer one is sorted (its n^2 comparisons would cost more
+/// than a sort's mispredicted branches).
+pub(super) const RANK_MAX: usize = 24;
+
+/// The place of each of `m` keys in ascending order: `places[a]` = the
+/// number of keys below key a, each key the pair (`primary[a]`,
+/// `tie[a]`) compared field by field, as f64. Without branches on the keys,
+/// LANES keys compared at a time: a disordered fluid's comparisons go
+/// either way. The keys must be distinct and not NaN; `primary` and `tie`
+/// run on to a whole number of LANES ([`padded`]`(m)`), `primary` +inf past
+/// m (never below a key), and `places` has room for as many.
+#[inline(always)]
+pub(super) fn ranks(primary: &[f64], tie: &[f64], m: usize, places: &mut [u32]) {
+    let lanes = padded(m);
+    let (primary, tie, places) = (&primary[..lanes], &tie[..lanes], &mut places[..lanes]);
+    places.fill(0);
+    // Key b against every key a at once: a vector of places.
+    for (&p, &t) in primary[..m].iter().zip(tie) {
+        for ((place, &pa), &ta) in places.iter_mut().zip(primary).zip(tie) {
+            *place += u32::from((p < pa) | ((p == pa) & (t < ta)));
+        }
+    }
+}
+
+/// `put(k, a)` for key a the k-th smallest of `m` keys given as [`ranks`]
+/// takes them (`primary` and `tie` run on to [`padded`]`(m)`, `primary`
+/// +inf past m; `places` room for as many): ranked without branches up to
+/// [`RANK_MAX`], sorted beyond (a primary field >= 0, whose order is that
+/// of its bits, and a tie a whole number below 2^32).
+#[inline]
+pub(super) fn place_ranked(
+    isa: Isa,
+    (primary, tie): (&[f64], &[f64]),
+    m: usize,
+    places: &mut [u32],
+    mut put: impl FnMut(usize, usize),
+) {
+    if m <= RANK_MAX {
+        ranks_on(isa, primary, tie, m, places);
+        for (a, &k) in places[..m].iter().enumerate() {
+            put(k as usize, a);
+        }
+    } else {
+        let mut keys: Vec<u128> = primary[..m]
+            .iter()
+            .zip(tie)
+            .enumerate()
+            .map(|(a, (&p, &t))| {
+                u128::from(p.to_bits()) << 64 | u128::from(t as u32) << 32 | a as u128
+            })
+            .collect();
+        keys.sort_unstable();
+        for (k, &key) in keys.iter().enumerate() {
+            put(k, key as u32 as usize);
+        }
+    }
+}
+
+on_isa! {
+    /// [`ranks`] compiled for the instruction set `isa`.
+    pub(super) fn ranks_on[] => ranks[](
+        primary: &[f64],
+        tie: &[f64],
+        m: usize,
+        places: &mut [u32]
+    )
+}
 
 /// `keys` in ascending order: `put(k, key)` for the k-th smallest, every k
 /// once (equal keys, which the callers' integer keys cannot tell apart,

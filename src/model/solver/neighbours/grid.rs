@@ -30,6 +30,23 @@ impl Grid {
         let (first, count) = if n == 1 { (0, 1) } else { (c + n - 1, 3) };
         (0..count).map(move |k| (first + k) % n)
     }
+
+    /// The cells of [`Self::columns_near`] in row `row`, as runs of
+    /// consecutive cells `a..b`: one, or two where they wrap at the
+    /// strip's edge (the second empty otherwise).
+    #[inline]
+    pub(super) fn runs_near(&self, row: usize, c: usize) -> [(usize, usize); 2] {
+        let (n, first) = (self.columns, row * self.columns);
+        if n < 3 {
+            [(first, first + n), (first, first)]
+        } else if c == 0 {
+            [(first + n - 1, first + n), (first, first + 2)]
+        } else if c == n - 1 {
+            [(first + n - 2, first + n), (first, first + 1)]
+        } else {
+            [(first + c - 1, first + c + 2), (first, first)]
+        }
+    }
 }
 
 impl NeighbourList {
@@ -37,7 +54,8 @@ impl NeighbourList {
     /// in y from the lowest particle and, when the strip is at least three
     /// cutoffs wide, columns at least `cutoff` wide in x (periodic);
     /// otherwise one column (a narrow strip: every image of every particle
-    /// in the rows near is tested). Within a cell, particles by index.
+    /// in the rows near is tested). Within a cell, particles by index; their
+    /// positions beside them (`bin_x`, `bin_y`).
     pub(super) fn bin_cells(&mut self, x: &[f64], y: &[f64], width: f64, cutoff: f64) -> Grid {
         let ymin = y.iter().copied().fold(f64::INFINITY, f64::min);
         let ymax = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -77,10 +95,14 @@ impl NeighbourList {
             self.bin_start[b + 1] += self.bin_start[b];
         }
         self.bin_items.resize(y.len(), 0);
+        self.bin_x.resize(y.len(), 0.0);
+        self.bin_y.resize(y.len(), 0.0);
         let mut fill = self.bin_start.clone();
         for i in 0..y.len() {
             let b = cell_of(i);
-            self.bin_items[fill[b] as usize] = i as u32;
+            let at = fill[b] as usize;
+            self.bin_items[at] = i as u32;
+            (self.bin_x[at], self.bin_y[at]) = (x[i], y[i]);
             fill[b] += 1;
         }
         grid

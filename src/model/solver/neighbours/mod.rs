@@ -98,6 +98,9 @@ pub struct NeighbourList {
     /// each cell starts.
     bin_start: Vec<u32>,
     bin_items: Vec<u32>,
+    /// The binned particles' positions, in the bins' order.
+    bin_x: Vec<f64>,
+    bin_y: Vec<f64>,
     /// For each block a, the blocks b > a within the cutoff of it in y at the
     /// rebuild: `near[near_start[a]..near_start[a + 1]]`.
     near_start: Vec<u32>,
@@ -147,25 +150,92 @@ impl Forms {
 }
 
 /// A build task's room for one list: the candidates kept (as entries) and
-/// their r^2, then their keys ([`list_key`]), own and mirrored apart.
+/// their r^2; then, in the lattice's form, their keys ([`list_key`]), own
+/// first; in a disordered fluid's, each part's keys as two fields for
+/// [`entry::ranks`] (r^2, and the index and image as [`tie`] gives them)
+/// and their places.
 #[derive(Default)]
 struct Scratch {
     found: Vec<u32>,
     r2: Vec<f64>,
-    own: Vec<u128>,
-    mirrored: Vec<u128>,
+    keys: Vec<u128>,
+    own: (Vec<f64>, Vec<f64>),
+    mirrored: (Vec<f64>, Vec<f64>),
+    places: Vec<u32>,
 }
 
 impl Scratch {
-    /// At least `room` of each.
+    /// At least `room` of each, and the ranked keys' run to whole LANES.
     fn make_room(&mut self, room: usize) {
+        let ranked = padded(room + 1);
         if self.found.len() < room {
             self.found.resize(room, 0);
             self.r2.resize(room, 0.0);
-            self.own.resize(room, 0);
-            self.mirrored.resize(room, 0);
+        }
+        if self.places.len() < ranked {
+            self.places.resize(ranked, 0);
+        }
+        for part in [&mut self.own, &mut self.mirrored] {
+            if part.0.len() < ranked {
+                part.0.resize(ranked, 0.0);
+                part.1.resize(ranked, 0.0);
+            }
         }
     }
+}
+
+/// Each binned candidate j's r^2 from (xi, yi) through its nearest image
+/// (x_i - x_j + offset, as every pair loop computes it) and its entry: in
+/// lanes, from the bins' positions and indices (`binned`: x, y, j) into
+/// `out` (r^2, entry).
+#[inline(always)]
+fn nearest_images(
+    binned: (&[f64], &[f64], &[u32]),
+    (xi, yi): (f64, f64),
+    width: f64,
+    out: (&mut [f64], &mut [u32]),
+) {
+    let ((xs, ys, js), (r2s, found)) = (binned, out);
+    let half = 0.5 * width;
+    for ((((r2, e), &x), &y), &j) in r2s.iter_mut().zip(found).zip(xs).zip(ys).zip(js) {
+        let dx0 = xi - x;
+        let shift: i8 = if dx0 > half {
+            -1
+        } else if dx0 < -half {
+            1
+        } else {
+            0
+        };
+        let dx = dx0 + f64::from(shift) * width;
+        let dy = yi - y;
+        *r2 = dx * dx + dy * dy;
+        *e = Entry::pack(j as usize, shift);
+    }
+}
+
+on_isa! {
+    /// [`nearest_images`] compiled for the instruction set `isa`.
+    fn nearest_images_on[] => nearest_images[](
+        binned: (&[f64], &[f64], &[u32]),
+        at: (f64, f64),
+        width: f64,
+        out: (&mut [f64], &mut [u32])
+    )
+}
+
+/// The entry `e`'s index and image as one number, j 4 + image code (below
+/// 2^32, so exact in an f64): ordered as (j, shift), the tie-break of
+/// [`list_key`] and the order of the windows ([`NeighbourList::fill_windows`]).
+#[inline(always)]
+fn tie(e: u32) -> f64 {
+    f64::from(((e & Entry::INDEX_MASK) << 2) | (e >> Entry::IMAGE_SHIFT))
+}
+
+/// The entry whose [`tie`] is `t`.
+#[inline(always)]
+fn untie(t: f64) -> u32 {
+    let t = t as u32;
+    (t >> 2) | ((t & 3) << Entry::IMAGE_SHIFT)
 }
 
 impl NeighbourList {
@@ -323,6 +393,7 @@ impl NeighbourList {
             + self.lane_of.capacity())
             * size_of::<u32>()
             + self.windows.capacity() * size_of::<Window>()
+            + (self.bin_x.capacity() + self.bin_y.capacity()) * size_of::<f64>()
             + self.win_sources.capacity() * size_of::<[u32; LANES]>()
     }
 
@@ -350,6 +421,7 @@ impl NeighbourList {
         self.find_near_blocks(y, cutoff, block);
         let grid = self.bin_cells(x, y, width, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);
+        let (bin_x, bin_y) = (&self.bin_x, &self.bin_y);
         let cutoff2 = cutoff * cutoff;
 
         // Every neighbour of i: the particles of the cells within one cell
@@ -368,13 +440,13 @@ impl NeighbourList {
         // candidate is written and kept (counted) only if it is within the
         // cutoff, with no branch on its distance.
         let branch_free = self.branch_free && width > 2.5 * cutoff;
-        let half = 0.5 * width;
+        let isa = Isa::detect();
         let visit = |i: usize, scratch: &mut Scratch| -> (usize, usize, bool) {
             let (xi, yi) = (x[i], y[i]);
             let (by, bx) = grid.cell(xi, yi);
             let rows = by.saturating_sub(1)..(by + 2).min(grid.rows);
             if !branch_free {
-                let found = &mut scratch.own;
+                let found = &mut scratch.keys;
                 found.clear();
                 for row in rows {
                     for k in grid.columns_near(bx) {
@@ -414,47 +486,43 @@ impl NeighbourList {
                 }
                 return (own_count, found.len() - own_count, true);
             }
-            let mut room = 0;
-            for row in rows.clone() {
-                for k in grid.columns_near(bx) {
-                    let cell = row * grid.columns + k;
-                    room += (bin_start[cell + 1] - bin_start[cell]) as usize;
-                }
-            }
+            // Each row's cells near i are one or two runs of the bins
+            // (wrapped at the strip's edges), read in order with their
+            // positions ([`Self::bin_cells`]).
+            let runs = |row: usize| {
+                grid.runs_near(row, bx)
+                    .map(|(a, b)| bin_start[a] as usize..bin_start[b] as usize)
+            };
+            let room = rows.clone().flat_map(runs).map(|r| r.len()).sum();
             scratch.make_room(room);
+            // Every candidate's r^2 through its nearest image, and its
+            // entry, in lanes; then own and mirrored apart, each as its
+            // keys' two fields (r^2 and the tie), written at every
+            // candidate and kept by a count: within the cutoff, and not i
+            // itself through no image.
             let (found, r2s) = (&mut scratch.found[..room], &mut scratch.r2[..room]);
-            let mut n = 0;
-            for row in rows {
-                for k in grid.columns_near(bx) {
-                    let cell = row * grid.columns + k;
-                    let items = &bin_items[bin_start[cell] as usize..bin_start[cell + 1] as usize];
-                    for &j in items {
-                        let dy = yi - y[j as usize];
-                        let dx0 = xi - x[j as usize];
-                        let shift: i8 = if dx0 > half {
-                            -1
-                        } else if dx0 < -half {
-                            1
-                        } else {
-                            0
-                        };
-                        let dx = dx0 + f64::from(shift) * width;
-                        let r2 = dx * dx + dy * dy;
-                        found[n] = Entry::pack(j as usize, shift);
-                        r2s[n] = r2;
-                        n += usize::from((r2 <= cutoff2) & (shift != 0 || j as usize != i));
-                    }
-                }
+            let mut at = 0;
+            for run in rows.flat_map(runs) {
+                let end = at + run.len();
+                let binned = (&bin_x[run.clone()], &bin_y[run.clone()], &bin_items[run]);
+                let out = (&mut r2s[at..end], &mut found[at..end]);
+                nearest_images_on(isa, binned, (xi, yi), width, out);
+                at = end;
             }
+            let itself = Entry::pack(i, 0);
             let (mut n_own, mut n_mirrored) = (0, 0);
-            for (&e, &r2) in found[..n].iter().zip(&r2s[..n]) {
-                let (j, shift) = (e & Entry::INDEX_MASK, Entry::image(e) as i8 - 1);
-                let key = list_key(i, j, shift, r2);
-                let mine = is_own(i, j, shift);
-                scratch.own[n_own] = key;
-                scratch.mirrored[n_mirrored] = key;
-                n_own += usize::from(mine);
-                n_mirrored += usize::from(!mine);
+            let (own, mirrored) = (&mut scratch.own, &mut scratch.mirrored);
+            for (&e, &r2) in found.iter().zip(r2s.iter()) {
+                let kept = (r2 <= cutoff2) & (e != itself);
+                let mine = is_own(i, e & Entry::INDEX_MASK, Entry::image(e) as i8 - 1);
+                let t = tie(e);
+                (own.0[n_own], own.1[n_own]) = (r2, t);
+                (mirrored.0[n_mirrored], mirrored.1[n_mirrored]) = (r2, t);
+                n_own += usize::from(kept & mine);
+                n_mirrored += usize::from(kept & !mine);
+            }
+            for (part, m) in [(own, n_own), (mirrored, n_mirrored)] {
+                part.0[m..padded(m)].fill(f64::INFINITY);
             }
             (n_own, n_mirrored, false)
         };
@@ -487,23 +555,34 @@ impl NeighbourList {
                         // lives (particles move less than the skin). Ties
                         // by index and image, so that the order does not
                         // depend on the order of visiting ([`list_key`]).
-                        let pack = |key: u128| {
-                            let (j, shift) =
-                                ((key >> 2) as u32 & Entry::INDEX_MASK, (key & 3) as i8 - 1);
-                            Entry::pack(j as usize, shift)
-                        };
-                        let (own, mirrored) = if together {
-                            scratch.own[..len].split_at_mut(own_count)
+                        if together {
+                            let pack = |key: u128| {
+                                let (j, shift) =
+                                    ((key >> 2) as u32 & Entry::INDEX_MASK, (key & 3) as i8 - 1);
+                                Entry::pack(j as usize, shift)
+                            };
+                            let (own, mirrored) = scratch.keys[..len].split_at_mut(own_count);
+                            sorted_into(own, false, |k, key| entries[k] = pack(key));
+                            sorted_into(mirrored, false, |k, key| {
+                                entries[own_count + k] = pack(key);
+                            });
                         } else {
-                            (
-                                &mut scratch.own[..own_count],
-                                &mut scratch.mirrored[..mirrored_count],
-                            )
-                        };
-                        sorted_into(own, !together, |k, key| entries[k] = pack(key));
-                        sorted_into(mirrored, !together, |k, key| {
-                            entries[own_count + k] = pack(key);
-                        });
+                            for (part, m, first) in [
+                                (&scratch.own, own_count, 0),
+                                (&scratch.mirrored, mirrored_count, own_count),
+                            ] {
+                                let (primary, tie) = (&part.0[..], &part.1[..]);
+                                place_ranked(
+                                    isa,
+                                    (primary, tie),
+                                    m,
+                                    &mut scratch.places,
+                                    |k, a| {
+                                        entries[first + k] = untie(tie[a]);
+                                    },
+                                );
+                            }
+                        }
                         for slot in &mut entries[len..padded(len)] {
                             *slot = Entry::padding(i);
                         }
@@ -572,7 +651,8 @@ mod grid;
 mod stale;
 mod windows;
 
-use entry::{is_own, list_key, sorted_into};
+use super::step::Isa;
+use entry::{is_own, list_key, place_ranked, sorted_into};
 pub use entry::{padded, Entry, LANES};
 pub use stale::Displacements;
 pub use windows::Window;

@@ -215,6 +215,17 @@ mod lists {
             }
             assert_eq!(a.lanes_of_pairs(), b.lanes_of_pairs());
             check_lists(&b, &x, &y, l.width, cutoff);
+            // The widest reaches have parts too long to rank: sorted
+            // instead ([`entry::place_ranked`]); the others, ranked.
+            let longest = (0..x.len())
+                .map(|i| b.own(i).max(b.of(i).len() - b.own(i)))
+                .max()
+                .unwrap_or(0);
+            assert_eq!(
+                longest > entry::RANK_MAX,
+                cutoff >= 3.0,
+                "{columns} columns: {longest}"
+            );
         }
     }
 
@@ -269,6 +280,37 @@ mod lists {
                 entry::sorted_into(&mut only, branch_free, |k, key| {
                     assert_eq!(key, firsts_sorted[k]);
                 });
+            }
+        }
+    }
+
+    /// [`entry::place_ranked`] puts every key once, in the order of
+    /// (primary, tie): primaries repeated (ties decide), ranked up to
+    /// RANK_MAX keys and sorted beyond, on every instruction set.
+    #[test]
+    fn place_ranked_puts_the_keys_in_order() {
+        for len in [0usize, 1, 7, 8, 9, 24, 25, 40] {
+            let keys: Vec<(f64, f64)> = (0..len)
+                .map(|k| (((k * 7919) % 5) as f64 * 0.25, ((k * 104_729) % 61) as f64))
+                .collect();
+            let mut want = keys.clone();
+            want.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
+            let lanes = padded(len);
+            let mut primary: Vec<f64> = keys.iter().map(|k| k.0).collect();
+            primary.resize(lanes, f64::INFINITY);
+            let mut tie: Vec<f64> = keys.iter().map(|k| k.1).collect();
+            tie.resize(lanes, 0.0);
+            for isa in crate::solver::step::every_isa() {
+                let mut places = vec![0u32; lanes];
+                let mut got = vec![None; len];
+                entry::place_ranked(isa, (&primary, &tie), len, &mut places, |k, a| {
+                    assert!(got[k].replace(keys[a]).is_none(), "place {k} put twice");
+                });
+                let got: Vec<_> = got
+                    .into_iter()
+                    .map(|k| k.expect("every place put"))
+                    .collect();
+                assert_eq!(got, want, "{len} keys, {isa:?}");
             }
         }
     }

@@ -227,28 +227,27 @@ impl NeighbourList {
     }
 
     /// Fill [`Self::lanes_of_pairs`] from the windows' sources: every own
-    /// pair is listed in exactly two lanes (its entry's and its mirror's).
+    /// pair is listed in exactly two lanes (its entry's and its mirror's),
+    /// the first met in window order at 2 s. Without branches on the
+    /// lanes, whose pattern a disordered fluid's windows do not repeat: a
+    /// lane not listed has the zero place for its source
+    /// ([`Self::fill_windows`]) and writes to two places past the table's
+    /// end, cut off after.
     pub(super) fn find_lanes(&mut self) {
         let pairs = self.own_entries.len();
         let none = u32::MAX;
+        u32::try_from(self.windows.len() * LANES).expect("window lanes fit in u32");
         self.lane_of.clear();
-        self.lane_of.resize(2 * pairs, none);
+        self.lane_of.resize(2 * pairs + 2, none);
         for (w, (win, src)) in self.windows.iter().zip(&self.win_sources).enumerate() {
             for (l, &s) in src.iter().enumerate() {
-                if win.mask() & (1 << l) == 0 {
-                    continue;
-                }
-                let lane = u32::try_from(w * LANES + l).expect("window lanes fit in u32");
-                let s = s as usize;
-                let at = if self.lane_of[2 * s] == none {
-                    2 * s
-                } else {
-                    2 * s + 1
-                };
-                assert_eq!(self.lane_of[at], none, "a pair is listed in two lanes only");
-                self.lane_of[at] = lane;
+                debug_assert!(win.mask() & (1 << l) != 0 || s as usize == pairs);
+                let s = 2 * s as usize;
+                let at = s + usize::from(self.lane_of[s] != none);
+                self.lane_of[at] = (w * LANES + l) as u32;
             }
         }
+        self.lane_of.truncate(2 * pairs);
         assert!(
             self.lane_of.iter().all(|&l| l != none),
             "every own pair is listed in two lanes"

@@ -40,7 +40,7 @@ pub(crate) enum Isa {
 /// Every instruction set this CPU runs (the baseline, the one detected,
 /// and AVX2 under AVX-512), for the tests that compare their bits.
 #[cfg(test)]
-pub(super) fn every_isa() -> Vec<Isa> {
+pub(crate) fn every_isa() -> Vec<Isa> {
     let mut isas = vec![Isa::Base, Isa::detect()];
     #[cfg(target_arch = "x86_64")]
     if Isa::detect() == Isa::Avx512 {
