@@ -14,9 +14,11 @@
 /// Defines `$on(isa, args..)`: `$inner(args..)` compiled for the instruction
 /// set `isa` (AVX-512, AVX2 or the baseline), each a `#[target_feature]`
 /// copy of the same `#[inline(always)]` body, so the results are the same
-/// bits on every CPU. One of the two places the passes meet `unsafe`:
-/// calling a target-feature function is sound because [`step::Isa::detect`] found
-/// the features before any `Isa` other than `Base` exists. (The other: the
+/// bits on every CPU; the pair loops ([`step`]) and the list build's
+/// loops in lanes ([`neighbours`]) use it. One of the two places the
+/// solver meets `unsafe`: calling a target-feature function is sound
+/// because [`step::Isa::detect`] found the features before any `Isa`
+/// other than `Base` exists. (The other: the
 /// kernel pass views its window-lane table as atomics, `density::as_atomic`,
 /// so that its tasks can store into it at once.)
 macro_rules! on_isa {

@@ -425,20 +425,22 @@ impl NeighbourList {
         let cutoff2 = cutoff * cutoff;
 
         // Every neighbour of i: the particles of the cells within one cell
-        // of i's, through every image, as the keys its list is sorted by
-        // ([`list_key`]): i's own entries as `scratch.own[..o]` and the
-        // mirrored ones as `scratch.mirrored[..m]`, or all in
-        // `scratch.own[..o + m]`, own first (`together`); returns (o, m,
-        // together). Two forms, the same entries. On a lattice the
-        // distance tests come in a pattern that repeats from particle to
-        // particle, which branch prediction follows: each candidate is
-        // tested, each image in turn. In a disordered fluid
-        // (`self.branch_free`) they go either way, and a mispredicted
-        // branch costs more than the work it skips: there, on a strip
-        // wider than 2.5 cutoffs, only a candidate's nearest image is
-        // tried (the others are more than half the width away), and each
-        // candidate is written and kept (counted) only if it is within the
-        // cutoff, with no branch on its distance.
+        // of i's, through every image, as the keys its list is sorted by:
+        // returns (o, m, together), o own entries and m mirrored ones.
+        // Two forms, the same entries. On a lattice the distance tests
+        // come in a pattern that repeats from particle to particle, which
+        // branch prediction follows: each candidate is tested, each image
+        // in turn, and the kept ones' keys ([`list_key`]) are all in
+        // `scratch.keys[..o + m]`, own first (`together`). In a disordered
+        // fluid (`self.branch_free`) the tests go either way, and a
+        // mispredicted branch costs more than the work it skips: there,
+        // on a strip wider than 2.5 cutoffs, only a candidate's nearest
+        // image is tried (the others are more than half the width away),
+        // every candidate's r^2 computed in lanes, and each written and
+        // kept (counted) only if it is within the cutoff, with no branch
+        // on its distance: own entries' keys as two fields, r^2 and
+        // [`tie`], in `scratch.own` (the first o), mirrored ones' in
+        // `scratch.mirrored` (the first m), for [`entry::ranks`].
         let branch_free = self.branch_free && width > 2.5 * cutoff;
         let isa = Isa::detect();
         let visit = |i: usize, scratch: &mut Scratch| -> (usize, usize, bool) {
