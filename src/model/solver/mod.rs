@@ -18,9 +18,9 @@
 /// loops in lanes ([`neighbours`]) use it. One of the two places the
 /// solver meets `unsafe`: calling a target-feature function is sound
 /// because [`step::Isa::detect`] found the features before any `Isa`
-/// other than `Base` exists. (The other: the
-/// kernel pass views its window-lane table as atomics, `density::as_atomic`,
-/// so that its tasks can store into it at once.)
+/// other than `Base` exists. (The other: the kernel pass views its
+/// window-lane table as atomics, `density::as_atomic`, so that its tasks
+/// can store into it at once.)
 macro_rules! on_isa {
     (
         $(#[$attr:meta])*

@@ -232,7 +232,9 @@ impl NeighbourList {
     /// lanes, whose pattern a disordered fluid's windows do not repeat: a
     /// lane not listed has the zero place for its source
     /// ([`Self::fill_windows`]) and writes to two places past the table's
-    /// end, cut off after.
+    /// end, cut off after. Lanes hold the entries, two a pair, so a pair
+    /// met a third time would leave another's place empty: the check at
+    /// the end finds it.
     pub(super) fn find_lanes(&mut self) {
         let pairs = self.own_entries.len();
         let none = u32::MAX;
