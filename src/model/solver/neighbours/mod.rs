@@ -149,9 +149,9 @@ impl Forms {
     }
 }
 
-/// A build task's room for one list: the candidates kept (as entries) and
-/// their r^2; then, in the lattice's form, their keys ([`list_key`]), own
-/// first; in a disordered fluid's, each part's keys as two fields for
+/// A build task's room for one list. In the lattice's form, the kept
+/// candidates' keys ([`list_key`]), own first; in a disordered fluid's,
+/// every candidate (as an entry) and its r^2, then each part's keys as two fields for
 /// [`entry::ranks`] (r^2, and the index and image as [`tie`] gives them)
 /// and their places.
 #[derive(Default)]
@@ -167,7 +167,7 @@ struct Scratch {
 impl Scratch {
     /// At least `room` of each, and the ranked keys' run to whole LANES.
     fn make_room(&mut self, room: usize) {
-        let ranked = padded(room + 1);
+        let ranked = padded(room);
         if self.found.len() < room {
             self.found.resize(room, 0);
             self.r2.resize(room, 0.0);
