@@ -151,9 +151,9 @@ impl Forms {
 
 /// A build task's room for one list. In the lattice's form, the kept
 /// candidates' keys ([`list_key`]), own first; in a disordered fluid's,
-/// every candidate (as an entry) and its r^2, then each part's keys as two fields for
-/// [`entry::ranks`] (r^2, and the index and image as [`tie`] gives them)
-/// and their places.
+/// every candidate (as an entry) and its r^2, then each part's keys as
+/// two fields for [`entry::ranks`] (r^2, and the index and image as
+/// [`tie`] gives them) and their places.
 #[derive(Default)]
 struct Scratch {
     found: Vec<u32>,
