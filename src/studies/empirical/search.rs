@@ -6,9 +6,14 @@
 //! (while compressed) or down (while not) to a bracket, then narrows it on
 //! log c0 to the relative tolerance: where two settled disordered trials
 //! give the disordered law (eps_stat - eps0 = k (U / c0)^m), its next probe
-//! is where the law puts the bound, kept inside the bracket by a factor
-//! sqrt(1 + tol), so the bracket closes in about two probes; otherwise at
-//! the geometric middle (a plain bisection). Either way the answer is
+//! is where the law puts the bound, kept a factor 1 + tol inside the
+//! bracket; otherwise at the geometric middle (a plain bisection). Kept so,
+//! a probe moves an end of the bracket by at least 1 + tol, and one at the
+//! edge closes the bracket if its class falls on the near side: a law that
+//! keeps missing to one side (as one fitted through trials on one side of
+//! the bound does) closes the bracket in steps of 1 + tol. A bracket within
+//! (1 + tol)^2 takes its probe where either class closes it (the law's c0
+//! moved into that window): one probe more. Either way the answer is
 //! bracketed to the tolerance by trials, not by the law.
 
 use anyhow::Result;
@@ -83,12 +88,19 @@ pub struct Steps {
 }
 
 /// The next probe inside (l, h): where the law through the two settled
-/// trials nearest the bracket puts the bound, or the geometric middle.
+/// trials nearest the bracket puts the bound, moved into the window
+/// [`closing`] gives, or without one into [`moving`]'s; or the geometric
+/// middle.
 fn next_probe(l: f64, h: f64, steps: &Steps, settled: &[(f64, f64)]) -> f64 {
     let mid = (h * l).sqrt();
     let Some((eps0, bound)) = steps.law else {
         return mid;
     };
+    let window = closing(l, h, steps.rel_tol);
+    if window.is_none() && h / l <= (1.0 + steps.rel_tol).powi(2) {
+        // Within (1 + tol)^2 but no window left by the margin: the middle.
+        return mid;
+    }
     let mut pts: Vec<(f64, f64)> = settled
         .iter()
         .filter(|p| p.1 - eps0 > 0.0)
@@ -104,12 +116,39 @@ fn next_probe(l: f64, h: f64, steps: &Steps, settled: &[(f64, f64)]) -> f64 {
         return mid;
     }
     let c = (x1 + ((bound - eps0).ln() - y1) / slope).exp();
-    let q = (1.0 + steps.rel_tol).sqrt();
+    let (from, to) = window.unwrap_or_else(|| moving(l, h, steps.rel_tol));
     if c.is_finite() {
-        c.clamp(l * q, h / q)
+        c.clamp(from, to)
     } else {
         mid
     }
+}
+
+/// For a bracket (l, h) wider than (1 + tol)^2: the c0 at least a factor
+/// 1 + tol from each end, [l (1 + tol), h / (1 + tol)], widened by 1e-9 on
+/// each side so that a probe at the lower edge that is not compressed
+/// passes the search's test after the rounding (the middle when the
+/// margin leaves nothing between them).
+fn moving(l: f64, h: f64, rel_tol: f64) -> (f64, f64) {
+    let (t, margin) = (1.0 + rel_tol, 1.0 + 1e-9);
+    let (from, to) = (l * t / margin, h / t * margin);
+    if from <= to {
+        (from, to)
+    } else {
+        let mid = (l * h).sqrt();
+        (mid, mid)
+    }
+}
+
+/// The c0 at which one probe closes the bracket (l, h) to the tolerance
+/// whatever its class: [h / (1 + tol), l (1 + tol)], narrowed by 1e-9 on
+/// each side so that the search's test (h / l <= 1 + tol) holds after the
+/// rounding of the divisions; None when the bracket is wider than
+/// (1 + tol)^2 (less the margin).
+fn closing(l: f64, h: f64, rel_tol: f64) -> Option<(f64, f64)> {
+    let (t, margin) = (1.0 + rel_tol, 1.0 + 1e-9);
+    let (from, to) = (h / t * margin, l * t / margin);
+    (from <= to).then_some((from, to))
 }
 
 /// The search's first probe: the one its path starts from whatever the
@@ -194,4 +233,124 @@ pub fn search(
         compressed: lo,
         probes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::studies::empirical::trial::Pooled;
+
+    /// A disordered trial at `c`: over-compressed below `c_star`, ok from
+    /// it, every seed settled with the pooled eps_stat `eps`.
+    pub(super) fn trial_at(c: f64, c_star: f64, eps: f64) -> Trial {
+        Trial {
+            c0: c,
+            c0_over_u: c,
+            perfect: None,
+            pooled: Some(Pooled {
+                class: if c < c_star {
+                    Class::OverCompressed
+                } else {
+                    Class::Ok
+                },
+                failure: None,
+                eps_stat: eps,
+                linf_stat: 0.0,
+                eps_stat_min: eps,
+                eps_stat_max: eps,
+                seeds: 3,
+                stationary: 3,
+                disordered: 3,
+                t_disorder: None,
+            }),
+            seeds: Vec::new(),
+        }
+    }
+
+    /// Any c0 in the window [`closing`] gives closes the bracket: both
+    /// brackets it leaves pass the search's own test, at tolerances from
+    /// the smallest allowed up, for brackets up to (1 + tol)^2 wide.
+    #[test]
+    fn a_probe_in_the_closing_window_ends_the_search() {
+        for tol in [1e-3f64, 0.01, 0.1, 1.0, 10.0] {
+            let t = 1.0 + tol;
+            for l in [1e-3, 0.37, 1.0, 27.244327383688052, 1e4] {
+                for k in 1..=50 {
+                    // Ratios from just above 1 + tol to just below
+                    // (1 + tol)^2 (at it, the margin leaves no window).
+                    let h = l * t.powf(1.0 + 0.999 * k as f64 / 50.0);
+                    let (from, to) = closing(l, h, tol).expect("a window up to (1 + tol)^2");
+                    for c in [from, (from * to).sqrt(), to] {
+                        assert!(l < c && c < h, "inside ({l}, {h}): {c}");
+                        assert!(c / l <= t && h / c <= t, "tol {tol}, ({l}, {h}) at {c}");
+                    }
+                }
+                assert!(closing(l, l * t * t * 1.001, tol).is_none());
+            }
+        }
+    }
+
+    /// With a law that misplaces the bound by a factor (low or high), the
+    /// search ends within the tolerance, and a bracket within (1 + tol)^2
+    /// takes one probe more, not a chain creeping from one side; with an
+    /// exact law, no more probes than plain bisection from the same
+    /// bracket; with a law 5 % off, at most one more than with an exact
+    /// one.
+    #[test]
+    fn a_biased_law_does_not_make_the_search_creep() {
+        let (eps0, bound) = (2e-3, 1.2e-2);
+        let steps = Steps {
+            first: 10.0,
+            lo: 0.01,
+            hi: 100.0,
+            rel_tol: 0.1,
+            law: Some((eps0, bound)),
+        };
+        let t = 1.0 + steps.rel_tol;
+        for k in 0..40 {
+            let c_star = 10.5 * (1.05f64).powi(k);
+            let run = |bias: f64| {
+                // eps_stat - eps0 = (bound - eps0) (bias c* / c)^1.6: the
+                // law through any two trials puts the bound at bias c*.
+                let eps = |c: f64| eps0 + (bound - eps0) * (bias * c_star / c).powf(1.6);
+                search(Regime::Disordered, steps, &mut |c| {
+                    Ok(trial_at(c, c_star, eps(c)))
+                })
+                .expect("synthetic trials")
+            };
+            let exact = run(1.0).probes.len();
+            for bias in [0.5, 0.8, 0.95, 1.0, 1.05, 1.25, 2.0] {
+                let b = run(bias);
+                let (l, h) = (b.compressed.unwrap().0, b.not_compressed.unwrap().0);
+                assert!(
+                    l < c_star && c_star <= h && h / l <= t,
+                    "{bias} {c_star}: {b:?}"
+                );
+                // Replay the brackets: once within (1 + tol)^2, the next
+                // probe is the last.
+                let (mut lo, mut hi) = (f64::NAN, f64::NAN);
+                for (n, &c) in b.probes.iter().enumerate() {
+                    if hi / lo <= t * t {
+                        assert_eq!(n + 1, b.probes.len(), "{bias} {c_star}: {b:?}");
+                    }
+                    if c < c_star {
+                        lo = if lo.is_nan() { c } else { lo.max(c) };
+                    } else {
+                        hi = if hi.is_nan() { c } else { hi.min(c) };
+                    }
+                }
+                if (bias - 1.0f64).abs() <= 0.05 + 1e-12 {
+                    assert!(b.probes.len() <= exact + 1, "{bias} {c_star}: {b:?}");
+                }
+                if bias == 1.0 {
+                    // From the first bracket, plain bisection needs
+                    // ceil(log2(ln(h / l) / ln(1 + tol))) probes.
+                    let first = b.probes.iter().position(|&c| c >= c_star).unwrap();
+                    let bracket = b.probes[first] / b.probes[first - 1];
+                    let bisect = (bracket.ln() / t.ln()).log2().ceil() as usize;
+                    assert!(b.probes.len() - first - 1 <= bisect, "{c_star}: {b:?}");
+                }
+            }
+        }
+    }
 }
