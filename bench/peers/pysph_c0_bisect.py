@@ -9,8 +9,11 @@ The search, as shearsph's: from the first probe, steps by sqrt(10) up while
 compressed (or down while not) to a bracket; then narrows it until
 hi / lo <= 1 + rel_tol, each probe where the law through the two settled
 trials nearest the bracket's middle (ln(eps_stat - eps0) linear in ln c0)
-puts the bound, kept inside the bracket by a factor sqrt(1 + rel_tol), or
-the geometric middle when there is no such law. A trial is settled when
+puts the bound, kept a factor 1 + rel_tol inside the bracket (within
+(1 + rel_tol)^2, moved where either class closes it), or the geometric
+middle when there is no such law. (Before 2026-12-05's change to
+shearsph's search, both kept the law's probe a factor sqrt(1 + rel_tol)
+inside the bracket; docs/validation.md's bisections ran so.) A trial is settled when
 every seed ended disordered (dy_rms >= 0.1 d) in a stationary window of
 shearsph's run of the same seed. Every probe runs `pysph_c0.sh` for its
 seeds (a run already in OUT is reused), each PySPH run judged on shearsph's
@@ -94,8 +97,18 @@ def main():
         if not (slope < 0 and math.isfinite(slope) and bound - eps0 > 0):
             return mid
         c = math.exp(x1 + (math.log(bound - eps0) - y1) / slope)
-        q = math.sqrt(1 + a.rel_tol)
-        return min(max(c, l * q), h / q) if math.isfinite(c) else mid
+        if not math.isfinite(c):
+            return mid
+        t, margin = 1 + a.rel_tol, 1 + 1e-9
+        if h / l <= t * t:
+            # Where either class closes the bracket.
+            lo_c, hi_c = h / t * margin, l * t / margin
+        else:
+            # A factor 1 + rel_tol from each end.
+            lo_c, hi_c = l * t / margin, h / t * margin
+        if lo_c > hi_c:
+            return mid
+        return min(max(c, lo_c), hi_c)
 
     factor = math.sqrt(10.0)
     lo = hi = None  # (c0, pooled)
