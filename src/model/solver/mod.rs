@@ -70,7 +70,7 @@ use crate::problem::cost::TimeStep;
 use crate::problem::Problem;
 use frame::FrameBuf;
 use neighbours::{Displacements, Entry, NeighbourList};
-use step::{Forces, Params, State};
+use step::{Forces, IsaPick, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
 pub use frame::ParticleFrame;
@@ -171,6 +171,9 @@ struct Sim<'p> {
     /// Seconds spent in the pair passes so far: the kernel pass, the
     /// density sums, the force pass.
     pass_s: [f64; 3],
+    /// The instruction set each of those passes runs with, picked by
+    /// their cost (the same bits with any, [`IsaPick`]).
+    isas: [IsaPick; 3],
     /// Seconds spent rebuilding the neighbour list during the steps.
     rebuild_s: f64,
     /// Whether a rebuild first stores the fluid band by band
@@ -206,7 +209,7 @@ impl<'p> Sim<'p> {
         s.wrap(lat.width);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &params);
-        let forces = step::forces(&mut s, &list, &params, 0.0);
+        let forces = step::forces(&mut s, &list, &params, 0.0, step::Isa::detect());
         Sim {
             problem,
             s,
@@ -219,6 +222,7 @@ impl<'p> Sim<'p> {
             forces,
             max_eps,
             pass_s: [0.0; 3],
+            isas: std::array::from_fn(|_| IsaPick::new()),
             rebuild_s: 0.0,
             reorder: true,
             order: Vec::new(),
@@ -264,19 +268,22 @@ impl<'p> Sim<'p> {
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
             self.rebuild_s += start.elapsed().as_secs_f64();
         }
+        let [kernel_isa, sums_isa, forces_isa] = self.isas.each_ref().map(IsaPick::isa);
         let start = Instant::now();
-        step::kernel_pass::<K>(&mut self.s, &self.list, &self.params);
+        step::kernel_pass::<K>(&mut self.s, &self.list, &self.params, kernel_isa);
         let kernel = Instant::now();
-        self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.params);
+        self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.params, sums_isa);
         let sums = Instant::now();
-        self.forces = step::forces(&mut self.s, &self.list, &self.params, 0.5 * dt);
+        self.forces = step::forces(&mut self.s, &self.list, &self.params, 0.5 * dt, forces_isa);
         let end = Instant::now();
-        for (acc, (a, b)) in
-            self.pass_s
-                .iter_mut()
-                .zip([(start, kernel), (kernel, sums), (sums, end)])
-        {
-            *acc += (b - a).as_secs_f64();
+        for ((acc, pick), (a, b)) in self.pass_s.iter_mut().zip(&mut self.isas).zip([
+            (start, kernel),
+            (kernel, sums),
+            (sums, end),
+        ]) {
+            let seconds = (b - a).as_secs_f64();
+            *acc += seconds;
+            pick.record(seconds);
         }
         StepCheck { max_abs_y }
     }

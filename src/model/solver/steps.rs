@@ -68,6 +68,9 @@ pub struct StepsRun {
     /// own pairs), the density sums (W gathered per slot, the EOS), the
     /// force pass.
     pub pass_s: [f64; 3],
+    /// The f64 lanes of the vectors each of those passes ran with at the
+    /// end (the instruction set its cost picked, `IsaPick`).
+    pub pass_lanes: [u32; 3],
     /// Wall-clock seconds of the steps spent rebuilding the neighbour list
     /// (with wrapping x into the strip).
     pub rebuild_s: f64,
@@ -237,6 +240,7 @@ fn timed<K: Kernel>(mut sim: Sim, steps: u64) -> StepsRun {
         bytes: sim.bytes(),
         pair_loop_s: sim.pass_s.iter().sum(),
         pass_s: sim.pass_s,
+        pass_lanes: sim.isas.each_ref().map(|p| p.chosen().describe().1),
         rebuild_s: sim.rebuild_s,
         own_pairs: sim.list.own_pairs(),
         fluid_window_lanes: (0..sim.s.n_fluid)
@@ -303,6 +307,7 @@ mod reorder_tests {
     use crate::kernel::Lattice;
     use crate::kernels::Composite;
     use crate::solver::neighbours::LANE_TABLE_MAX_BYTES;
+    use crate::solver::step::{every_isa, Isa, IsaPick};
 
     /// The composite kernel on the square lattice at h = d, from rest:
     /// its lattice disorders by t = 11, so the rebuilds after that store
@@ -325,17 +330,19 @@ mod reorder_tests {
 
     /// The fluid's state and ids after `until_t`, on `threads` threads.
     fn state_after(problem: &Problem, until_t: f64, threads: usize) -> (Vec<f64>, Vec<u32>) {
-        state_after_with(problem, until_t, threads, None)
+        state_after_with(problem, until_t, threads, None, None)
     }
 
     /// [`state_after`] with lists of at most `lane_table_max` bytes of
     /// window-lane table ([`NeighbourList::lane_table`]), the first list
-    /// included.
+    /// included, and with every pair pass on the instruction set `isa`
+    /// instead of the ones picked by cost.
     fn state_after_with(
         problem: &Problem,
         until_t: f64,
         threads: usize,
         lane_table_max: Option<usize>,
+        isa: Option<Isa>,
     ) -> (Vec<f64>, Vec<u32>) {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -349,6 +356,9 @@ mod reorder_tests {
                     sim.list.set_lane_table_max(bytes);
                     sim.list.build(&s.x, &s.y, lat.width, sim.cutoff, sim.block);
                     assert_eq!(sim.list.lane_table(), bytes > 0);
+                }
+                if let Some(isa) = isa {
+                    sim.isas = std::array::from_fn(|_| IsaPick::fixed(isa));
                 }
                 let mut t = 0.0;
                 while t < until_t {
@@ -389,10 +399,26 @@ mod reorder_tests {
     fn a_run_without_a_lane_table_is_the_same_bits() {
         let problem = disordering();
         let with = state_after(&problem, 40.0, 1);
-        assert_eq!(state_after_with(&problem, 40.0, 1, Some(0)), with);
+        assert_eq!(state_after_with(&problem, 40.0, 1, Some(0), None), with);
         // The default: a lane table for this small strip.
-        let lanes = state_after_with(&problem, 40.0, 1, Some(LANE_TABLE_MAX_BYTES));
+        let lanes = state_after_with(&problem, 40.0, 1, Some(LANE_TABLE_MAX_BYTES), None);
         assert_eq!(lanes, with);
+    }
+
+    /// The pair passes' instruction sets change no bit: a disordered run
+    /// with every pass on each set this CPU runs is the run with the sets
+    /// picked by cost ([`IsaPick`]), in either of the neighbour list's
+    /// forms of (dW/dq)/q.
+    #[test]
+    fn a_run_does_not_depend_on_the_passes_instruction_sets() {
+        let problem = disordering();
+        for lane_table_max in [None, Some(0)] {
+            let picked = state_after_with(&problem, 40.0, 1, lane_table_max, None);
+            for isa in every_isa() {
+                let fixed = state_after_with(&problem, 40.0, 1, lane_table_max, Some(isa));
+                assert_eq!(fixed, picked, "{isa:?}, {lane_table_max:?}");
+            }
+        }
     }
 
     /// Reordering moves every particle's values together, keeps each id

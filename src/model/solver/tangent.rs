@@ -107,7 +107,8 @@ impl Sim<'_> {
         self.list
             .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
         self.max_eps = super::step::density::<K>(&mut self.s, &self.list, &self.params);
-        self.forces = super::step::forces(&mut self.s, &self.list, &self.params, 0.0);
+        let isa = super::step::Isa::detect();
+        self.forces = super::step::forces(&mut self.s, &self.list, &self.params, 0.0, isa);
     }
 }
 

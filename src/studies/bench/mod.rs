@@ -223,6 +223,10 @@ pub struct Row {
     /// table) or "pairs" (gathered from the pair table,
     /// [`crate::solver::neighbours::NeighbourList::lane_table`]).
     pub force_g: &'static str,
+    /// The f64 lanes of the vectors the kernel pass, the density sums and
+    /// the force pass ran with (the instruction set each one's cost picked:
+    /// the same bits with any).
+    pub pass_lanes: [u32; 3],
     /// The step's core-nanoseconds per particle (its wall time x the cores
     /// used / particles), and the least the two pair passes' own arithmetic
     /// allows as the solver runs them: every own pair's kernel at the
@@ -497,6 +501,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     forces_lane_bound_ns,
                     lane_use: r.fluid_listed_lanes as f64 / r.fluid_window_lanes as f64,
                     force_g: if r.lane_table { "lanes" } else { "pairs" },
+                    pass_lanes: r.pass_lanes,
                     core_ns_per_particle_step: per_step * cores_used / particles as f64 * 1e9,
                     floor_core_ns_per_particle_step: (floor_kernel + floor_forces)
                         / particles as f64,

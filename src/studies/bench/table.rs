@@ -130,10 +130,12 @@ pub fn table(r: &Report) -> String {
          division, not by memory); the force\npass's core-ns per lane run against the bound its flops \
          set at the peak in use, and its lanes' share\nthat are listed pairs; the share of the \
          step spent rebuilding the neighbour list (list%, with its rebuilds); where the force \
-         pass\nread (dW/dq)/q (g: a window-lane table, or gathered from the pairs' table):\n",
+         pass\nread (dW/dq)/q (g: a window-lane table, or gathered from the pairs' table); the \
+         f64 lanes of the vectors the\nkernel pass, the sums and the force pass ran with, as \
+         their cost picked (vec):\n",
     );
     out.push_str(&format!(
-        "{:<10} {:>8} {:>3} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>7} {:>7} {:>5} {:>6} {:>6} {:>5} {:>5}\n",
+        "{:<10} {:>8} {:>3} {:>6} {:>6} {:>6} {:>7} {:>7} {:>5} {:>7} {:>7} {:>5} {:>6} {:>6} {:>5} {:>5} {:>5}\n",
         "kernel",
         "particles",
         "thr",
@@ -149,12 +151,13 @@ pub fn table(r: &Report) -> String {
         "lanes%",
         "list%",
         "rebu",
-        "g"
+        "g",
+        "vec"
     ));
     for row in &r.rows {
         let [kern, sums, forc] = row.pass_share;
         out.push_str(&format!(
-            "{:<10} {:>8} {:>3} {:>6.1} {:>6.1} {:>6.1} {:>7.2} {:>7.2} {:>5.2} {:>7.3} {:>7.3} {:>5.2} {:>6.1} {:>6.1} {:>5} {:>5}\n",
+            "{:<10} {:>8} {:>3} {:>6.1} {:>6.1} {:>6.1} {:>7.2} {:>7.2} {:>5.2} {:>7.3} {:>7.3} {:>5.2} {:>6.1} {:>6.1} {:>5} {:>5} {:>5}\n",
             row.kernel,
             row.particles,
             row.threads,
@@ -171,6 +174,7 @@ pub fn table(r: &Report) -> String {
             100.0 * row.rebuild_share,
             row.neighbour_rebuilds,
             row.force_g,
+            row.pass_lanes.map(|l| l.to_string()).join("/"),
         ));
     }
     out.push_str(

@@ -102,14 +102,20 @@ pub(super) fn pair_gather(sources: &[u32], run: (usize, usize), pair_w: &[f64]) 
 /// pair is kept for [`super::forces::forces`] in both window lanes that
 /// list it.
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) -> f64 {
-    kernel_pass::<K>(s, list, params);
-    density_sums::<K>(s, list, params)
+    let isa = Isa::detect();
+    kernel_pass::<K>(s, list, params, isa);
+    density_sums::<K>(s, list, params, isa)
 }
 
 /// The first half of [`density`], timed apart by the solver: W of every
-/// own pair into the pair table, its (dW/dq)/q into the window-lane table.
-pub(crate) fn kernel_pass<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) {
-    let isa = Isa::detect();
+/// own pair into the pair table, its (dW/dq)/q into the window-lane table;
+/// compiled for `isa`.
+pub(crate) fn kernel_pass<K: Kernel>(
+    s: &mut State,
+    list: &NeighbourList,
+    params: &Params,
+    isa: Isa,
+) {
     // The pair table and after it a place kept at zero that padding reads:
     // resized when a rebuild changed the number of own pairs.
     let pairs = list.own_pairs();
@@ -179,9 +185,13 @@ fn as_atomic(v: &mut [f64]) -> &[AtomicU64] {
 }
 
 /// The second half of [`density`]: the sums of W from the pair table and
-/// the EOS; the largest fluid compaction.
-pub(crate) fn density_sums<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) -> f64 {
-    let isa = Isa::detect();
+/// the EOS, compiled for `isa`; the largest fluid compaction.
+pub(crate) fn density_sums<K: Kernel>(
+    s: &mut State,
+    list: &NeighbourList,
+    params: &Params,
+    isa: Isa,
+) -> f64 {
     let n = s.x.len();
     assert_eq!(
         s.pair_slots,

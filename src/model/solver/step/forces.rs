@@ -229,8 +229,15 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool
 ///   velocity -(D_j / g_i) v_i, so v_i - v_j = beta v_i with
 ///   beta = min(1 + D_j / g_i, beta_max) ([`Params::beta_max`]);
 /// - the body force p along +x.
-pub(crate) fn forces(s: &mut State, list: &NeighbourList, params: &Params, half_dt: f64) -> Forces {
-    let isa = Isa::detect();
+///
+/// Compiled for `isa`.
+pub(crate) fn forces(
+    s: &mut State,
+    list: &NeighbourList,
+    params: &Params,
+    half_dt: f64,
+    isa: Isa,
+) -> Forces {
     // The pressure form, the artificial viscosity and the walls' factor as
     // constants of the pair loop: each combination compiles to its own loop.
     // Without the artificial viscosity, walls that are not mirrored take the

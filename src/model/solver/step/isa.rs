@@ -77,3 +77,126 @@ impl Isa {
         Isa::Base
     }
 }
+
+/// Calls of a pass that a pick's trial takes, its candidates in turn, and
+/// the calls after which it tries again ([`IsaPick`]).
+const TRIAL: u32 = 16;
+const PERIOD: u32 = 4096;
+
+/// The instruction set one pair pass of the step runs with, picked by what
+/// it cost. Every candidate gives the same bits (the pass's functions are
+/// the same operations in the same order on every instruction set, which
+/// the tests compare), so the pick changes only the speed. The candidates
+/// are the set detected and, under AVX-512, AVX2: a CPU that runs 512-bit
+/// vectors as two halves (AMD's Zen 4) runs a pass whose vectors are
+/// mostly gathers faster with 256-bit ones, and one of arithmetic slower
+/// (docs/performance.md). Every PERIOD calls, the first TRIAL take the
+/// candidates in turn, and the one whose quickest call was the quicker
+/// runs the rest: the quickest, not the total, as a call right after a
+/// rebuild also zeroes its tables.
+#[derive(Debug, Clone)]
+pub(crate) struct IsaPick {
+    candidates: [Isa; 2],
+    quickest: [f64; 2],
+    calls: u32,
+    chosen: Isa,
+}
+
+impl IsaPick {
+    /// Between the set detected and, under AVX-512, AVX2.
+    pub(crate) fn new() -> IsaPick {
+        let detected = Isa::detect();
+        #[cfg(target_arch = "x86_64")]
+        let other = if detected == Isa::Avx512 {
+            Isa::Avx2
+        } else {
+            detected
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let other = detected;
+        IsaPick::between([detected, other])
+    }
+
+    /// Always `isa` (for the tests that compare instruction sets).
+    #[cfg(test)]
+    pub(crate) fn fixed(isa: Isa) -> IsaPick {
+        IsaPick::between([isa, isa])
+    }
+
+    fn between(candidates: [Isa; 2]) -> IsaPick {
+        IsaPick {
+            candidates,
+            quickest: [f64::INFINITY; 2],
+            calls: 0,
+            chosen: candidates[0],
+        }
+    }
+
+    /// The instruction set for the next call.
+    pub(crate) fn isa(&self) -> Isa {
+        if self.calls < TRIAL {
+            self.candidates[(self.calls % 2) as usize]
+        } else {
+            self.chosen
+        }
+    }
+
+    /// The seconds the call with [`Self::isa`] took.
+    pub(crate) fn record(&mut self, seconds: f64) {
+        if self.calls < TRIAL {
+            let q = &mut self.quickest[(self.calls % 2) as usize];
+            *q = q.min(seconds);
+            if self.calls + 1 == TRIAL {
+                let k = usize::from(self.quickest[1] < self.quickest[0]);
+                self.chosen = self.candidates[k];
+            }
+        }
+        self.calls += 1;
+        if self.calls == PERIOD {
+            self.calls = 0;
+            self.quickest = [f64::INFINITY; 2];
+        }
+    }
+
+    /// The set the calls after the last trial run with.
+    pub(crate) fn chosen(&self) -> Isa {
+        self.chosen
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pick runs its candidates in turn for TRIAL calls, then the one
+    /// whose quickest call was the quicker (one slow call, as after a
+    /// rebuild, does not decide it), and tries again every PERIOD calls.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn a_pick_takes_the_quicker_set_and_tries_again() {
+        let mut pick = IsaPick::between([Isa::Avx512, Isa::Avx2]);
+        // AVX2 quicker, but for one slow call.
+        let cost = |isa: Isa, call: u32| match isa {
+            Isa::Avx512 => 1.0,
+            _ if call == 1 => 5.0,
+            _ => 0.8,
+        };
+        for call in 0..TRIAL {
+            let isa = pick.isa();
+            assert_eq!(isa, [Isa::Avx512, Isa::Avx2][(call % 2) as usize]);
+            pick.record(cost(isa, call));
+        }
+        assert_eq!(pick.chosen(), Isa::Avx2);
+        for _ in TRIAL..PERIOD {
+            assert_eq!(pick.isa(), Isa::Avx2);
+            pick.record(0.8);
+        }
+        // The next trial, where AVX-512 is now the quicker.
+        for call in 0..TRIAL {
+            let isa = pick.isa();
+            assert_eq!(isa, [Isa::Avx512, Isa::Avx2][(call % 2) as usize]);
+            pick.record(if isa == Isa::Avx512 { 0.5 } else { 0.8 });
+        }
+        assert_eq!((pick.isa(), pick.chosen()), (Isa::Avx512, Isa::Avx512));
+    }
+}

@@ -21,7 +21,7 @@ pub(crate) use forces::{
 pub(crate) use integrate::kick_drift;
 #[cfg(test)]
 pub(crate) use isa::every_isa;
-pub(crate) use isa::Isa;
+pub(crate) use isa::{Isa, IsaPick};
 pub(crate) use state::{Params, State};
 
 /// Particles per parallel task: large enough that a task outweighs rayon's
