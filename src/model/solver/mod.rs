@@ -115,8 +115,10 @@ pub fn kernel_alone_ns<K: Kernel>() -> f64 {
     step::kernel_alone_ns::<K>()
 }
 
-/// The vector instructions the pair loops run with on this CPU (chosen at
-/// run time; the results are the same bits with any): name and f64 lanes.
+/// The widest vector instructions the pair loops run with on this CPU
+/// (detected at run time; each pair pass runs with them or, picked by its
+/// cost, AVX2 under AVX-512; the results are the same bits with any): name
+/// and f64 lanes.
 pub fn pair_loop_isa() -> (&'static str, u32) {
     step::Isa::detect().describe()
 }

@@ -126,9 +126,10 @@ fn next_probe(l: f64, h: f64, steps: &Steps, settled: &[(f64, f64)]) -> f64 {
 
 /// For a bracket (l, h) wider than (1 + tol)^2: the c0 at least a factor
 /// 1 + tol from each end, [l (1 + tol), h / (1 + tol)], widened by 1e-9 on
-/// each side so that a probe at the lower edge that is not compressed
-/// passes the search's test after the rounding (the middle when the
-/// margin leaves nothing between them).
+/// each side so that a probe at an edge whose class puts it on that edge's
+/// side (not compressed at the lower, compressed at the upper) passes the
+/// search's test after the rounding (the middle when the margin leaves
+/// nothing between them).
 fn moving(l: f64, h: f64, rel_tol: f64) -> (f64, f64) {
     let (t, margin) = (1.0 + rel_tol, 1.0 + 1e-9);
     let (from, to) = (l * t / margin, h / t * margin);
@@ -242,7 +243,7 @@ mod tests {
 
     /// A disordered trial at `c`: over-compressed below `c_star`, ok from
     /// it, every seed settled with the pooled eps_stat `eps`.
-    pub(super) fn trial_at(c: f64, c_star: f64, eps: f64) -> Trial {
+    fn trial_at(c: f64, c_star: f64, eps: f64) -> Trial {
         Trial {
             c0: c,
             c0_over_u: c,
