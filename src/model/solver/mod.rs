@@ -69,7 +69,7 @@ use crate::kernel::Kernel;
 use crate::problem::cost::TimeStep;
 use crate::problem::Problem;
 use frame::FrameBuf;
-use neighbours::{Displacements, Entry, NeighbourList};
+use neighbours::{Displacements, Entry, NeighbourList, Reach};
 use step::{Forces, IsaPick, Params, State};
 
 pub use diagnostics::{LayerProfile, Sample};
@@ -184,6 +184,12 @@ struct Sim<'p> {
     /// the start's order.
     reorder: bool,
     order: Vec<(u64, u64, u32)>,
+    /// The time since the last rebuild, and the Lipschitz constant of
+    /// that rebuild's shear reference ([`State::shear_reference`]; 0 for
+    /// a fluid that keeps its lattice's order): the rebuild rule bounds
+    /// displacements from the reference ([`Reach`]).
+    since_rebuild: f64,
+    shear_rate: f64,
 }
 
 /// What one step found that may end the run.
@@ -228,6 +234,8 @@ impl<'p> Sim<'p> {
             rebuild_s: 0.0,
             reorder: true,
             order: Vec::new(),
+            since_rebuild: 0.0,
+            shear_rate: 0.0,
         }
     }
 
@@ -248,23 +256,40 @@ impl<'p> Sim<'p> {
     /// miss a pair, density, forces and the closing kick.
     fn advance<K: Kernel>(&mut self, dt: f64) -> StepCheck {
         let lat = &self.problem.lattice;
-        step::kick_drift(&mut self.s, dt, self.block, &mut self.motion);
+        self.since_rebuild += dt;
+        let since = self.since_rebuild;
+        step::kick_drift(&mut self.s, dt, since, self.block, &mut self.motion);
         let max_abs_y = self.motion.iter().fold(0.0f64, |m, b| m.max(b.1));
         let motion = &self.motion;
+        let reach = Reach {
+            skin: self.skin,
+            cutoff: self.cutoff,
+            parting: self.shear_rate * since,
+        };
         if self.list.stale(
             |b| motion.get(b).map_or(Displacements::ZERO, |m| m.0),
-            self.skin,
+            reach,
         ) {
             let start = Instant::now();
             self.s.wrap(lat.width);
+            self.since_rebuild = 0.0;
+            self.shear_rate = 0.0;
             if self.reorder {
                 // Bands one layer spacing high, centred on the lattice's
                 // layers: a layer that has kept its place is one band.
                 let low = -lat.b() - 0.5 * lat.dy;
                 let moved = self.s.reorder(low, lat.dy, self.block, &mut self.order);
                 // Particles that moved in storage have left their lattice:
-                // the list is built in its disordered form (the same list).
+                // the list is built in its disordered form (the same list),
+                // and the rule bounds displacements from the shear of the
+                // bands (a lattice keeps the rule it had: its bits).
                 self.list.set_disordered(moved);
+                self.shear_rate = if moved {
+                    self.s.shear_reference(low, lat.dy, lat.b())
+                } else {
+                    self.s.u_ref.fill(0.0);
+                    0.0
+                };
             }
             self.list
                 .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);

@@ -656,7 +656,7 @@ mod windows;
 use super::step::Isa;
 use entry::{is_own, list_key, place_ranked, sorted_into};
 pub use entry::{padded, Entry, LANES};
-pub use stale::Displacements;
+pub use stale::{Displacements, Reach};
 pub use windows::Window;
 
 #[cfg(test)]

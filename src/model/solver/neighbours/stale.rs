@@ -48,30 +48,78 @@ impl Displacements {
     }
 
     /// Whether two displacements in the box can differ by more than
-    /// `skin`: its diagonal against `skin`, squared (no square root: the
+    /// `slack`: its diagonal against `slack`, squared (no square root: the
     /// rebuild test runs every step over every pair of near blocks).
     #[inline]
-    pub fn wider_than(&self, skin: f64) -> bool {
+    pub fn wider_than(&self, slack: f64) -> bool {
         let (w, h) = (self.dx_max - self.dx_min, self.dy_max - self.dy_min);
-        w * w + h * h > skin * skin
+        w * w + h * h > slack * slack
+    }
+}
+
+/// What the rebuild rule weighs the blocks' boxes against: the skin, the
+/// cutoff the list was built with (R h + skin) and how far the shear
+/// reference has parted particles since the rebuild, per unit of their
+/// distance in y (`parting`: the reference profile's Lipschitz constant
+/// times the time since the rebuild, [`crate::solver::step`]'s
+/// `State::shear_reference`; 0 without a reference).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach {
+    pub skin: f64,
+    pub cutoff: f64,
+    pub parting: f64,
+}
+
+impl Reach {
+    /// How much two particles' displacements from their references may
+    /// differ (the diagonal of their blocks' boxes) before the list may
+    /// miss a pair within R h = cutoff - skin; the skin itself without a
+    /// reference. Each displacement is the reference's, (u(y0) t, 0), plus
+    /// the rest the boxes bound. A pair not listed was r0 = (a, b) apart,
+    /// |r0| > C = cutoff; the references move it along x by at most
+    /// L = `parting` times |b|, which brings it no nearer than
+    /// min over |b| <= C of sqrt((sqrt(C^2 - b^2) - L |b|)^2 + b^2)
+    /// = C (sqrt(1 + L^2/4) - L/2) (at b = C sin(theta), the minimum of
+    /// C^2 (1 - L sin 2 theta + L^2 sin^2 theta) over theta; a pair with
+    /// |b| > C is as far as it was anyway). The rest moves it by at most
+    /// the diagonal, so the pair stays beyond R h while the diagonal is
+    /// below that nearest distance less R h (less 1e-9 C for the rounding
+    /// of the references). Negative when no diagonal is safe.
+    pub fn slack(&self) -> f64 {
+        if self.parting == 0.0 {
+            return self.skin;
+        }
+        let (c, l) = (self.cutoff, self.parting);
+        let nearest = c * ((1.0 + 0.25 * l * l).sqrt() - 0.5 * l);
+        nearest - (c - self.skin) - 1e-9 * c
     }
 }
 
 impl NeighbourList {
     /// Whether the list may miss a pair within `cutoff - skin`, given each
-    /// block's displacement box.
-    pub fn stale(&self, box_of: impl Fn(usize) -> Displacements, skin: f64) -> bool {
+    /// block's box of displacements from the shear reference (x0 + u t,
+    /// y0) and how far that reference has parted the particles
+    /// ([`Reach`]). Blocks near in y at the rebuild are checked pair by
+    /// pair against [`Reach::slack`]; the others were more than the
+    /// cutoff apart in y, which the reference does not change (it moves
+    /// along x only): they need no two y displacements of the fluid to
+    /// differ by more than the skin.
+    pub fn stale(&self, box_of: impl Fn(usize) -> Displacements, reach: Reach) -> bool {
+        let slack = reach.slack();
+        if slack <= 0.0 {
+            return true;
+        }
         let n_blocks = self.near_start.len() - 1;
         let all = (0..n_blocks).fold(Displacements::EMPTY, |acc, b| acc.union(box_of(b)));
-        if all.dy_max - all.dy_min > skin {
+        if all.dy_max - all.dy_min > reach.skin {
             return true;
         }
         (0..n_blocks).any(|a| {
             let box_a = box_of(a);
-            box_a.wider_than(skin)
+            box_a.wider_than(slack)
                 || self.near[self.near_start[a] as usize..self.near_start[a + 1] as usize]
                     .iter()
-                    .any(|&b| box_a.union(box_of(b as usize)).wider_than(skin))
+                    .any(|&b| box_a.union(box_of(b as usize)).wider_than(slack))
         })
     }
 

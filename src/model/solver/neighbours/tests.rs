@@ -410,7 +410,12 @@ mod stale_tests {
         // fastest relative motion among them is layer 4 (u = 20/36) against
         // the wall layer 6.
         let v = 20.0 / 36.0;
-        let stale = |b: &[Displacements]| list.stale(|k| b[k], 0.3);
+        let reach = Reach {
+            skin: 0.3,
+            cutoff: 2.3,
+            parting: 0.0,
+        };
+        let stale = |b: &[Displacements]| list.stale(|k| b[k], reach);
         assert!(!stale(&moved(0.29 / v)));
         assert!(stale(&moved(0.31 / v)));
         // A transverse spread over the skin always does.
@@ -418,6 +423,65 @@ mod stale_tests {
         b[0] = Displacements::EMPTY;
         b[0].add(0.0, 0.31);
         assert!(stale(&b));
+    }
+
+    /// [`Reach::slack`] is the bound it says and no looser: a pair more
+    /// than the cutoff C apart at the rebuild, parted along x by the
+    /// reference by at most L |dy| and moved by the rest by at most the
+    /// slack, stays beyond R h = C - skin, over random pairs; at the worst
+    /// angle, moved straight in by 2e-9 C more than the slack, it comes
+    /// within R h.
+    #[test]
+    fn the_slack_holds_every_unlisted_pair_beyond_the_support_and_no_more() {
+        let (skin, cutoff) = (0.3, 2.3);
+        let reach_h = cutoff - skin;
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for parting in [0.0, 1e-3, 0.05, 0.1, 0.2, 0.26] {
+            let slack = Reach {
+                skin,
+                cutoff,
+                parting,
+            }
+            .slack();
+            assert!(slack > 0.0 && slack <= skin, "{parting}: {slack}");
+            for _ in 0..20_000 {
+                // At the rebuild: beyond the cutoff, at any angle.
+                let (r0, theta) = (cutoff * (1.0 + 1e-6 + 0.2 * uniform()), uniform() * 6.3);
+                let (a, b) = (r0 * theta.cos(), r0 * theta.sin());
+                // The reference's parting toward the other, at most L |b|,
+                // and the rest in any direction, at most the slack.
+                let along = -(parting * b.abs() * uniform()).copysign(a);
+                let (rest, phi) = (slack * uniform(), uniform() * 6.3);
+                let (x, y) = (a + along + rest * phi.cos(), b + rest * phi.sin());
+                assert!(x.hypot(y) > reach_h, "{parting}: reached {}", x.hypot(y));
+            }
+            // The worst pair: at the angle where the parting brings it
+            // nearest, moved in by the parting and then straight in.
+            let worst = if parting > 0.0 {
+                0.5 * (2.0 / parting).atan()
+            } else {
+                0.0
+            };
+            let (a, b) = (cutoff * worst.cos(), cutoff * worst.sin());
+            let (x, y) = (a - parting * b, b);
+            let r = x.hypot(y);
+            let inward = (slack + 2e-9 * cutoff) / r;
+            let reached = (x * (1.0 - inward)).hypot(y * (1.0 - inward));
+            assert!(reached < reach_h, "{parting}: {reached} is a looser bound");
+        }
+        // A parting that leaves no room: stale whatever the boxes.
+        let none = Reach {
+            skin,
+            cutoff,
+            parting: 0.3,
+        };
+        assert!(none.slack() < 0.0);
     }
 
     /// The blocks near each block, by testing every pair: what

@@ -10,12 +10,14 @@ use crate::solver::neighbours::Displacements;
 
 /// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
 /// v + dt/2 a of the end-of-step velocity for the forces. Fills `motion`
-/// with each block's displacements since the last rebuild and how far from
-/// the centre line it reached. Parallel over tasks of whole blocks (a block,
-/// one lattice layer, is only a few particles).
+/// with each block's displacements since the last rebuild (`since` before
+/// the drift's end) from the shear reference (x0 + u_ref since, y0), and
+/// how far from the centre line it reached. Parallel over tasks of whole
+/// blocks (a block, one lattice layer, is only a few particles).
 pub(crate) fn kick_drift(
     s: &mut State,
     dt: f64,
+    since: f64,
     block: usize,
     motion: &mut Vec<(Displacements, f64)>,
 ) {
@@ -40,12 +42,13 @@ pub(crate) fn kick_drift(
             s.ay.par_chunks(span),
             s.x0.par_chunks(span),
             s.y0.par_chunks(span),
+            s.u_ref.par_chunks(span),
         ),
         motion.par_chunks_mut(blocks_per_task),
     )
         .into_par_iter()
         .for_each(|(out, input, motion)| {
-            kick_drift_task_on(isa, (half, dt), block, out, input, motion)
+            kick_drift_task_on(isa, (half, dt, since), block, out, input, motion)
         });
 }
 
@@ -60,17 +63,18 @@ type Moving<'a> = (
     &'a mut [f64],
 );
 
-/// What it reads: a_x, a_y and the positions at the last rebuild.
-type Fixed<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64]);
+/// What it reads: a_x, a_y, the positions at the last rebuild and the
+/// shear reference's speeds.
+type Fixed<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64], &'a [f64]);
 
 /// The kick and drift of one task's whole blocks, and each block's
 /// displacement box and largest |y|.
 #[inline(always)]
 fn kick_drift_task(
-    (half, dt): (f64, f64),
+    (half, dt, since): (f64, f64, f64),
     block: usize,
     (x, y, vx, vy, v_pred_x, v_pred_y): Moving,
-    (ax, ay, x0, y0): Fixed,
+    (ax, ay, x0, y0, u_ref): Fixed,
     motion: &mut [(Displacements, f64)],
 ) {
     for (b, m) in motion.iter_mut().enumerate() {
@@ -82,7 +86,8 @@ fn kick_drift_task(
             &mut vy[r.clone()],
         );
         let (v_pred_x, v_pred_y) = (&mut v_pred_x[r.clone()], &mut v_pred_y[r.clone()]);
-        let (ax, ay, x0, y0) = (&ax[r.clone()], &ay[r.clone()], &x0[r.clone()], &y0[r]);
+        let (ax, ay) = (&ax[r.clone()], &ay[r.clone()]);
+        let (x0, y0, u_ref) = (&x0[r.clone()], &y0[r.clone()], &u_ref[r]);
         let mut d = Displacements::EMPTY;
         let mut max_abs_y = 0.0f64;
         for k in 0..block {
@@ -92,7 +97,8 @@ fn kick_drift_task(
             y[k] += dt * vy[k];
             v_pred_x[k] = vx[k] + half * ax[k];
             v_pred_y[k] = vy[k] + half * ay[k];
-            d.add(x[k] - x0[k], y[k] - y0[k]);
+            // u_ref 0 (a lattice's order kept): x - x0, exactly.
+            d.add(x[k] - x0[k] - u_ref[k] * since, y[k] - y0[k]);
             // NaN compares false: make it count as out of the channel.
             let ya = y[k].abs();
             max_abs_y = if ya.is_nan() {
@@ -108,7 +114,7 @@ fn kick_drift_task(
 on_isa! {
     /// [`kick_drift_task`] compiled for the instruction set `isa`.
     fn kick_drift_task_on[] => kick_drift_task[](
-        steps: (f64, f64),
+        steps: (f64, f64, f64),
         block: usize,
         out: Moving,
         input: Fixed,

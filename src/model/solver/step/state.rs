@@ -27,6 +27,11 @@ pub(crate) struct State {
     /// Fluid positions at the last neighbour-list rebuild.
     pub x0: Vec<f64>,
     pub y0: Vec<f64>,
+    /// Each fluid particle's speed along x in the shear reference of the
+    /// last rebuild ([`Self::shear_reference`]): the rebuild rule bounds
+    /// displacements from x0 + u_ref t, not from x0. 0 for a fluid that
+    /// keeps its lattice's order.
+    pub u_ref: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
     /// Each particle's index at the start (storage order changes at list
@@ -104,6 +109,7 @@ impl State {
             p_rho2: vec![0.0; n],
             x0: x[..n_fluid].to_vec(),
             y0: y[..n_fluid].to_vec(),
+            u_ref: vec![0.0; n_fluid],
             x,
             y,
             layer,
@@ -133,6 +139,7 @@ impl State {
             &self.p_rho2,
             &self.x0,
             &self.y0,
+            &self.u_ref,
             &self.depth,
         ]
         .iter()
@@ -208,6 +215,58 @@ impl State {
         self.x0.copy_from_slice(&self.x[..nf]);
         self.y0.copy_from_slice(&self.y[..nf]);
         true
+    }
+
+    /// The shear reference of the rebuild rule
+    /// ([`crate::solver::neighbours::NeighbourList::stale`]): a profile
+    /// u(y) of the fluid's x velocity, piecewise linear through the mean
+    /// v_x of each band `band` high from `y_low` (at its centre, where the
+    /// centre is at least half a band inside the no-slip planes |y| = `b`:
+    /// no two points nearer than that, whatever the rounding) and through
+    /// 0 at those planes (the walls rest), 0 beyond them. Each fluid particle's
+    /// u at its position is kept in `u_ref`; returns the profile's
+    /// Lipschitz constant (its steepest piece), which the rule needs: two
+    /// particles' references part by at most that times their distance in
+    /// y per unit time. Call after [`Self::reorder`].
+    pub fn shear_reference(&mut self, y_low: f64, band: f64, b: f64) -> f64 {
+        let nf = self.n_fluid;
+        // The bands up to the upper plane; a particle beyond it (or not
+        // finite) counts in the last, whose centre is outside.
+        let bands = ((b - y_low) / band).ceil().max(0.0) as usize + 1;
+        let band_of = |y: f64| (((y - y_low) / band).max(0.0) as usize).min(bands - 1);
+        let mut sums = vec![(0.0, 0u32); bands];
+        for (&y, &v) in self.y[..nf].iter().zip(&self.vx[..nf]) {
+            let s = &mut sums[band_of(y)];
+            *s = (s.0 + v, s.1 + 1);
+        }
+        let mut nodes = vec![(-b, 0.0)];
+        nodes.extend(sums.iter().enumerate().filter_map(|(k, &(sum, count))| {
+            let centre = y_low + (k as f64 + 0.5) * band;
+            (count > 0 && centre.abs() <= b - 0.5 * band).then(|| (centre, sum / f64::from(count)))
+        }));
+        nodes.push((b, 0.0));
+        let slope = nodes
+            .windows(2)
+            .map(|w| ((w[1].1 - w[0].1) / (w[1].0 - w[0].0)).abs())
+            .fold(0.0f64, f64::max);
+        if !(slope.is_finite() && nodes.iter().all(|n| n.1.is_finite())) {
+            // A state that is not finite (about to be reported): no
+            // reference, the rule as for a lattice.
+            self.u_ref.fill(0.0);
+            return 0.0;
+        }
+        let profile = |y: f64| {
+            let k = nodes.partition_point(|n| n.0 <= y);
+            if k == 0 || k == nodes.len() {
+                return 0.0;
+            }
+            let ((ya, ua), (yb, ub)) = (nodes[k - 1], nodes[k]);
+            ua + (ub - ua) * ((y - ya) / (yb - ya))
+        };
+        for (u, &y) in self.u_ref.iter_mut().zip(&self.y0) {
+            *u = profile(y);
+        }
+        slope
     }
 
     /// Wrap the fluid into the strip and take the current positions as the
