@@ -258,7 +258,8 @@ impl<'p> Sim<'p> {
         let lat = &self.problem.lattice;
         self.since_rebuild += dt;
         let since = self.since_rebuild;
-        step::kick_drift(&mut self.s, dt, since, self.block, &mut self.motion);
+        let reference = (self.shear_rate > 0.0).then_some(since);
+        step::kick_drift(&mut self.s, dt, reference, self.block, &mut self.motion);
         let max_abs_y = self.motion.iter().fold(0.0f64, |m, b| m.max(b.1));
         let motion = &self.motion;
         let reach = Reach {

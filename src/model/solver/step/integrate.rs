@@ -10,14 +10,15 @@ use crate::solver::neighbours::Displacements;
 
 /// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
 /// v + dt/2 a of the end-of-step velocity for the forces. Fills `motion`
-/// with each block's displacements since the last rebuild (`since` before
-/// the drift's end) from the shear reference (x0 + u_ref since, y0), and
-/// how far from the centre line it reached. Parallel over tasks of whole
+/// with each block's displacements since the last rebuild, from the shear
+/// reference (x0 + u_ref since, y0; `since` the time from the rebuild to
+/// the drift's end) or, without one (`None`: a lattice that keeps its
+/// order), from (x0, y0), and how far from the centre line it reached. Parallel over tasks of whole
 /// blocks (a block, one lattice layer, is only a few particles).
 pub(crate) fn kick_drift(
     s: &mut State,
     dt: f64,
-    since: f64,
+    since: Option<f64>,
     block: usize,
     motion: &mut Vec<(Displacements, f64)>,
 ) {
@@ -47,8 +48,11 @@ pub(crate) fn kick_drift(
         motion.par_chunks_mut(blocks_per_task),
     )
         .into_par_iter()
-        .for_each(|(out, input, motion)| {
-            kick_drift_task_on(isa, (half, dt, since), block, out, input, motion)
+        .for_each(|(out, input, motion)| match since {
+            Some(since) => {
+                kick_drift_task_on::<true>(isa, (half, dt, since), block, out, input, motion)
+            }
+            None => kick_drift_task_on::<false>(isa, (half, dt, 0.0), block, out, input, motion),
         });
 }
 
@@ -68,9 +72,10 @@ type Moving<'a> = (
 type Fixed<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64], &'a [f64]);
 
 /// The kick and drift of one task's whole blocks, and each block's
-/// displacement box and largest |y|.
+/// displacement box (from the shear reference with `REFERENCE`) and
+/// largest |y|.
 #[inline(always)]
-fn kick_drift_task(
+fn kick_drift_task<const REFERENCE: bool>(
     (half, dt, since): (f64, f64, f64),
     block: usize,
     (x, y, vx, vy, v_pred_x, v_pred_y): Moving,
@@ -97,8 +102,11 @@ fn kick_drift_task(
             y[k] += dt * vy[k];
             v_pred_x[k] = vx[k] + half * ax[k];
             v_pred_y[k] = vy[k] + half * ay[k];
-            // u_ref 0 (a lattice's order kept): x - x0, exactly.
-            d.add(x[k] - x0[k] - u_ref[k] * since, y[k] - y0[k]);
+            let dx = x[k] - x0[k];
+            d.add(
+                if REFERENCE { dx - u_ref[k] * since } else { dx },
+                y[k] - y0[k],
+            );
             // NaN compares false: make it count as out of the channel.
             let ya = y[k].abs();
             max_abs_y = if ya.is_nan() {
@@ -113,7 +121,7 @@ fn kick_drift_task(
 
 on_isa! {
     /// [`kick_drift_task`] compiled for the instruction set `isa`.
-    fn kick_drift_task_on[] => kick_drift_task[](
+    fn kick_drift_task_on[const REFERENCE: bool] => kick_drift_task[REFERENCE](
         steps: (f64, f64, f64),
         block: usize,
         out: Moving,
