@@ -26,7 +26,11 @@
 //! transverse displacements differ by more than `skin` either. In shear the
 //! whole fluid's box grows as U t, but that of neighbouring layers only as
 //! (dU/dy) (R h) t, so the list lives about B / (R h) times longer than with
-//! one box for all.
+//! one box for all. A disordered fluid's boxes bound the displacements from
+//! a shear reference instead (x0 + u(y0) t, u the bands' profile at the
+//! rebuild), against a slack that allows for how far that reference can
+//! bring a pair nearer ([`Reach`]): the shear between near layers no longer
+//! spends the skin by itself.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
