@@ -13,8 +13,9 @@ use crate::solver::neighbours::Displacements;
 /// with each block's displacements since the last rebuild, from the shear
 /// reference (x0 + u_ref since, y0; `since` the time from the rebuild to
 /// the drift's end) or, without one (`None`: a lattice that keeps its
-/// order), from (x0, y0), and how far from the centre line it reached. Parallel over tasks of whole
-/// blocks (a block, one lattice layer, is only a few particles).
+/// order), from (x0, y0), and how far from the centre line it reached.
+/// Parallel over tasks of whole blocks (a block, one lattice layer, is
+/// only a few particles).
 pub(crate) fn kick_drift(
     s: &mut State,
     dt: f64,
