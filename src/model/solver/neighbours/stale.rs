@@ -105,8 +105,10 @@ impl NeighbourList {
     /// along x only): they need no two y displacements of the fluid to
     /// differ by more than the skin.
     pub fn stale(&self, box_of: impl Fn(usize) -> Displacements, reach: Reach) -> bool {
+        // No room, or none known (a time or profile that is not finite):
+        // rebuild.
         let slack = reach.slack();
-        if slack <= 0.0 {
+        if slack.is_nan() || slack <= 0.0 {
             return true;
         }
         let n_blocks = self.near_start.len() - 1;

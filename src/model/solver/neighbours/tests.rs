@@ -482,6 +482,16 @@ mod stale_tests {
             parting: 0.3,
         };
         assert!(none.slack() < 0.0);
+        // A parting that is not finite is no room either.
+        let list = NeighbourList::default();
+        for parting in [0.3, f64::NAN, f64::INFINITY] {
+            let reach = Reach {
+                skin,
+                cutoff,
+                parting,
+            };
+            assert!(list.stale(|_| Displacements::ZERO, reach), "{parting}");
+        }
     }
 
     /// The blocks near each block, by testing every pair: what
