@@ -184,12 +184,31 @@ struct Sim<'p> {
     /// the start's order.
     reorder: bool,
     order: Vec<(u64, u64, u32)>,
+    /// How many layers high the bands of a disordered fluid are
+    /// ([`band_layers`]).
+    band_layers: usize,
     /// The time since the last rebuild, and the Lipschitz constant of
     /// that rebuild's shear reference ([`State::shear_reference`]; 0 for
     /// a fluid that keeps its lattice's order): the rebuild rule bounds
     /// displacements from the reference ([`Reach`]).
     since_rebuild: f64,
     shear_rate: f64,
+}
+
+/// How many layers high the bands are that a disordered fluid is stored in
+/// ([`State::reorder`]): as many as make a row of a particle's neighbours
+/// fill the force pass's window of LANES consecutive indices
+/// ([`neighbours::Window`]). A band k layers high holds about k particles a
+/// spacing d of x, and a row of neighbours spans up to 2 cutoffs of x: k =
+/// LANES d / (2 cutoff), rounded, at least 1 (2 for the cutoffs near 2.3 d
+/// of R = 2 h at h = d, 1 for R = 3 h).
+fn band_layers(lat: &crate::problem::lattice::LatticeGeometry, cutoff: f64) -> usize {
+    let k = (neighbours::LANES as f64 * lat.d / (2.0 * cutoff)).round();
+    if k >= 1.0 {
+        k as usize
+    } else {
+        1
+    }
 }
 
 /// What one step found that may end the run.
@@ -200,12 +219,14 @@ struct StepCheck {
 impl<'p> Sim<'p> {
     /// Particles in place, the first neighbour list, density and forces.
     fn new<K: Kernel>(problem: &'p Problem) -> Self {
-        Self::with_state::<K>(problem, State::new(&problem.lattice, problem))
+        Self::with_state::<K>(problem, State::new(&problem.lattice, problem), false)
     }
 
     /// [`Sim::new`] from a state other than the problem's start (for
-    /// [`steps::run_steps_tiled`]): its list, density and forces.
-    fn with_state<K: Kernel>(problem: &'p Problem, mut s: State) -> Self {
+    /// [`steps::run_steps_tiled`]): its list, density and forces. A
+    /// `banded` state (a disordered fluid's) is first stored in bands as
+    /// a rebuild stores it ([`State::reorder`]).
+    fn with_state<K: Kernel>(problem: &'p Problem, mut s: State, banded: bool) -> Self {
         let lat = problem.lattice;
         let h = lat.h;
         let params = Params::new(problem);
@@ -213,8 +234,13 @@ impl<'p> Sim<'p> {
         let cutoff = K::SUPPORT2_CLOSED.sqrt() * h + skin;
         // Blocks for the rebuild rule: the lattice layers, stored in turn.
         let block = lat.columns as usize;
+        let band_layers = band_layers(&lat, cutoff);
         let mut list = NeighbourList::default();
         s.wrap(lat.width);
+        if banded {
+            let low = -lat.b() - 0.5 * lat.dy;
+            s.reorder(low, lat.dy, band_layers, block, &mut Vec::new());
+        }
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &params);
         let forces = step::forces(&mut s, &list, &params, 0.0, step::Isa::detect());
@@ -234,6 +260,7 @@ impl<'p> Sim<'p> {
             rebuild_s: 0.0,
             reorder: true,
             order: Vec::new(),
+            band_layers,
             since_rebuild: 0.0,
             shear_rate: 0.0,
         }
@@ -277,9 +304,12 @@ impl<'p> Sim<'p> {
             self.shear_rate = 0.0;
             if self.reorder {
                 // Bands one layer spacing high, centred on the lattice's
-                // layers: a layer that has kept its place is one band.
+                // layers: a layer that has kept its place is one band. A
+                // disordered fluid's are `band_layers` of them.
                 let low = -lat.b() - 0.5 * lat.dy;
-                let moved = self.s.reorder(low, lat.dy, self.block, &mut self.order);
+                let moved =
+                    self.s
+                        .reorder(low, lat.dy, self.band_layers, self.block, &mut self.order);
                 // Particles that moved in storage have left their lattice:
                 // the list is built in its disordered form (the same list),
                 // and the rule bounds displacements from the shear of the

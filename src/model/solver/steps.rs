@@ -123,6 +123,9 @@ pub struct FluidState {
     v_pred_y: Vec<f64>,
     /// The layer each particle started in.
     layer: Vec<i32>,
+    /// Whether the last rebuild stored the fluid in bands of y, its
+    /// lattice's order lost ([`State::reorder`]).
+    banded: bool,
 }
 
 /// Run `problem` with kernel `K` from its start to `until_t`, on the
@@ -155,6 +158,7 @@ pub fn disordered_state<K: Kernel>(problem: &Problem, until_t: f64) -> FluidStat
             v_pred_x: fluid(&sim.s.v_pred_x),
             v_pred_y: fluid(&sim.s.v_pred_y),
             layer: sim.s.layer[..nf].to_vec(),
+            banded: sim.list.disordered(),
         }
     })
 }
@@ -168,8 +172,9 @@ pub fn disordered_state<K: Kernel>(problem: &Problem, until_t: f64) -> FluidStat
 /// m C + c), moved by m times the base strip's width: every copy is the
 /// base's state, so every size has the base's neighbours per particle,
 /// the same scatter of their indices (copies of one block are stored
-/// together, as the lattice stores a layer) and the same rebuilds per
-/// step. The walls are the tiled lattice's own, which are the base's
+/// together, as the lattice stores a layer; a base stored in bands of y
+/// is stored in bands again, as a rebuild of the tiled fluid stores it)
+/// and the same rebuilds per step. The walls are the tiled lattice's own, which are the base's
 /// repeated.
 ///
 /// Panics if `problem`'s lattice is not `base`'s tiled.
@@ -197,7 +202,7 @@ pub fn run_steps_tiled<K: Kernel>(problem: &Problem, base: &FluidState, steps: u
             }
         }
     }
-    rayon::scope(|_| timed::<K>(Sim::with_state::<K>(problem, s), steps))
+    rayon::scope(|_| timed::<K>(Sim::with_state::<K>(problem, s, base.banded), steps))
 }
 
 /// `steps` steps of `sim`, timed.
@@ -531,14 +536,19 @@ mod reorder_tests {
         }
         s.wrap(lat.width);
         let before = s.x.clone();
-        assert!(!s.reorder(low, lat.dy, c, &mut order), "rotations stay");
-        assert_eq!(s.x, before);
+        for layers in [1, 2] {
+            assert!(
+                !s.reorder(low, lat.dy, layers, c, &mut order),
+                "rotations stay"
+            );
+            assert_eq!(s.x, before);
+        }
         // Two particles of layer 0 swapped in x: now it moves.
         for i in 0..nf {
             s.rho[i] = f64::from(s.id[i]);
         }
         s.x.swap(0, 1);
-        assert!(s.reorder(low, lat.dy, c, &mut order), "an order lost");
+        assert!(s.reorder(low, lat.dy, 1, c, &mut order), "an order lost");
         let mut seen = vec![false; nf];
         for i in 0..nf {
             let id = s.id[i] as usize;
@@ -547,13 +557,49 @@ mod reorder_tests {
             assert_eq!(s.rho[i], id as f64, "rho moved with its particle");
         }
         // Band by band, by x within a band.
-        let band = |i: usize| ((s.y[i] - low) / lat.dy) as i64;
+        let band = |s: &State, i: usize| ((s.y[i] - low) / lat.dy) as i64;
         for i in 1..nf {
             assert!(
-                (band(i - 1), s.x[i - 1]) <= (band(i), s.x[i]),
+                (band(&s, i - 1), s.x[i - 1]) <= (band(&s, i), s.x[i]),
                 "sorted at {i}"
             );
         }
         assert_eq!(&s.x0[..nf], &s.x[..nf], "the rebuild's reference moved too");
+        // The middle particle of the first layer moved into the second's
+        // band: the fluid is stored in bands of two layers, by x within a
+        // band.
+        s.y[1] += lat.dy;
+        assert!(s.reorder(low, lat.dy, 2, c, &mut order), "an order lost");
+        let wide = |s: &State, i: usize| ((s.y[i] - low) / (2.0 * lat.dy)) as i64;
+        for i in 1..nf {
+            assert!(
+                (wide(&s, i - 1), s.x[i - 1]) <= (wide(&s, i), s.x[i]),
+                "sorted in bands of two layers at {i}"
+            );
+        }
+        assert!(
+            (1..c).any(|i| band(&s, i) != band(&s, 0)),
+            "a block holds two layers"
+        );
+        // Stored so, it is not taken for a lattice, and sorts the same.
+        let stored = s.x.clone();
+        assert!(s.reorder(low, lat.dy, 2, c, &mut order));
+        assert_eq!(s.x, stored);
+    }
+
+    /// A disordered fluid's bands are as many layers high as fill a window
+    /// with a row of neighbours ([`super::super::band_layers`]).
+    #[test]
+    fn bands_are_as_high_as_fill_a_window() {
+        let lat = disordering().lattice;
+        let layers = |cutoff: f64| super::super::band_layers(&lat, cutoff * lat.d);
+        // R = 2 h and 3 h at h = d with the skin 0.3 h; R = h.
+        assert_eq!(layers(2.3), 2);
+        assert_eq!(layers(3.3), 1);
+        assert_eq!(layers(1.3), 3);
+        // A cutoff so wide that less than a layer would fill the window,
+        // or not a number: one layer.
+        assert_eq!(layers(100.0), 1);
+        assert_eq!(layers(f64::NAN), 1);
     }
 }

@@ -363,6 +363,12 @@ impl NeighbourList {
         self.disordered = disordered;
     }
 
+    /// Whether the builds are of a disordered fluid
+    /// ([`Self::set_disordered`]).
+    pub fn disordered(&self) -> bool {
+        self.disordered
+    }
+
     /// This build's number: unique among every list's builds in the
     /// process, so a table filled for one build is known to be stale for
     /// any other.

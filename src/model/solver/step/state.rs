@@ -150,41 +150,69 @@ impl State {
             + (self.layer.capacity() + self.id.capacity()) * size_of::<u32>()
     }
 
-    /// Store the fluid particles band by band (bands `band` high in y from
-    /// `y_low`), by x within a band (ties by id), so that a row of a
-    /// particle's neighbours is a run of consecutive indices, as a layer
-    /// of the lattice is at the start. Call after [`Self::wrap`]. Nothing
-    /// moves while every block of `block` particles is already one band in
-    /// x order from some particle on (a layer sheared past the strip's
-    /// edge is such a rotation): a lattice that keeps its order keeps its
-    /// storage, and its results their bits. Deterministic, so results do
-    /// not depend on the thread count. Returns whether particles moved.
+    /// Store the fluid particles band by band in y, by x within a band
+    /// (ties by id), so that a row of a particle's neighbours is a run of
+    /// consecutive indices, as a layer of the lattice is at the start.
+    /// Call after [`Self::wrap`]. Nothing moves while every block of
+    /// `block` particles is already one band `band` high from `y_low` (a
+    /// layer), in x order from some particle on (a layer sheared past the
+    /// strip's edge is such a rotation): a lattice that keeps its order
+    /// keeps its storage, and its results their bits. Otherwise the bands
+    /// are `layers` such bands high: a row of a particle's neighbours in a
+    /// band of several layers is a longer run, which fills more of the
+    /// force pass's window ([`crate::solver::neighbours::Window`]).
+    /// Deterministic, so results do not depend on the thread count.
+    /// Returns whether the fluid is stored in bands (its lattice's order
+    /// lost).
     pub fn reorder(
         &mut self,
         y_low: f64,
         band: f64,
+        layers: usize,
         block: usize,
         order: &mut Vec<(u64, u64, u32)>,
     ) -> bool {
         let nf = self.n_fluid;
-        order.clear();
-        order.extend((0..nf).map(|i| {
-            let b = ((self.y[i] - y_low) / band).max(0.0) as u64;
-            // x >= 0 after wrap: its bits order as its value.
-            (b, self.x[i].to_bits(), i as u32)
-        }));
-        order.sort_unstable_by_key(|&(b, x, i)| (b, x, self.id[i as usize]));
-        let rotation = |(k, seg): (usize, &[(u64, u64, u32)])| {
-            let first = k * block;
-            let r = (seg[0].2 as usize).wrapping_sub(first);
-            r < block
-                && seg
-                    .iter()
-                    .enumerate()
-                    .all(|(m, &(_, _, i))| i as usize == first + (r + m) % block)
+        let band_of = |y: f64, height: f64| ((y - y_low) / height).max(0.0) as u64;
+        let sorted = |order: &mut Vec<(u64, u64, u32)>, height: f64| {
+            order.clear();
+            order.extend((0..nf).map(|i| {
+                // x >= 0 after wrap: its bits order as its value.
+                (band_of(self.y[i], height), self.x[i].to_bits(), i as u32)
+            }));
+            order.sort_unstable_by_key(|&(b, x, i)| (b, x, self.id[i as usize]));
         };
-        if order.chunks(block).enumerate().all(rotation) {
-            return false;
+        // A block in sorted order from some particle on has its layers'
+        // bands in order from there too: they descend at most once. A
+        // fluid with a block whose bands descend more often (every
+        // disordered fluid stored in bands of several layers) cannot keep
+        // its order, and the sort that would decide it is skipped.
+        let may_keep = self.y[..nf].chunks(block).all(|ys| {
+            let bands = ys.iter().map(|&y| band_of(y, band));
+            bands
+                .clone()
+                .zip(bands.skip(1))
+                .filter(|(a, b)| b < a)
+                .count()
+                <= 1
+        });
+        if may_keep {
+            sorted(order, band);
+            let rotation = |(k, seg): (usize, &[(u64, u64, u32)])| {
+                let first = k * block;
+                let r = (seg[0].2 as usize).wrapping_sub(first);
+                r < block
+                    && seg
+                        .iter()
+                        .enumerate()
+                        .all(|(m, &(_, _, i))| i as usize == first + (r + m) % block)
+            };
+            if order.chunks(block).enumerate().all(rotation) {
+                return false;
+            }
+        }
+        if !may_keep || layers > 1 {
+            sorted(order, layers as f64 * band);
         }
         fn permute<T: Copy>(v: &mut [T], order: &[(u64, u64, u32)], tmp: &mut Vec<T>) {
             tmp.clear();
