@@ -311,6 +311,7 @@ mod reorder_tests {
     use crate::config::{Initial, Scene};
     use crate::kernel::Lattice;
     use crate::kernels::Composite;
+    use crate::problem::lattice::LatticeGeometry;
     use crate::solver::neighbours::{Entry, LANE_TABLE_MAX_BYTES};
     use crate::solver::step::{every_isa, Isa, IsaPick};
 
@@ -331,6 +332,17 @@ mod reorder_tests {
             ..Scene::builtin()
         };
         Problem::resolve(&scene, Composite::INFO).expect("the scene")
+    }
+
+    /// The lattice of [`disordering`] and its start, with what a reorder
+    /// of it takes: the blocks' size (its columns) and the bands' low
+    /// edge as the solver puts it (bands one layer spacing high, centred
+    /// on the layers, the first on the plane y = -B).
+    fn start() -> (LatticeGeometry, State, usize, f64) {
+        let problem = disordering();
+        let lat = problem.lattice;
+        let s = State::new(&lat, &problem);
+        (lat, s, lat.columns as usize, -lat.b() - 0.5 * lat.dy)
     }
 
     /// The fluid's state and ids after `until_t`, on `threads` threads.
@@ -523,12 +535,8 @@ mod reorder_tests {
     /// past the strip's edge) where it is.
     #[test]
     fn a_reorder_moves_whole_particles_and_leaves_a_rotated_lattice() {
-        let problem = disordering();
-        let lat = problem.lattice;
-        let c = lat.columns as usize;
-        let mut s = State::new(&lat, &problem);
+        let (lat, mut s, c, low) = start();
         let nf = s.n_fluid;
-        let low = -lat.b() - 0.5 * lat.dy;
         let mut order = Vec::new();
         // Every layer shifted by half its width: each is rotated.
         for i in 0..nf {
@@ -602,12 +610,8 @@ mod reorder_tests {
             layers in 1usize..4,
             offsets in proptest::collection::vec((-0.5f64..0.5, -0.5f64..0.5), 16),
         ) {
-            let problem = disordering();
-            let lat = problem.lattice;
-            let c = lat.columns as usize;
-            let mut s = State::new(&lat, &problem);
+            let (lat, mut s, c, low) = start();
             let nf = s.n_fluid;
-            let low = -lat.b() - 0.5 * lat.dy;
             for i in 0..nf {
                 let (ox, oy) = offsets[i % offsets.len()];
                 s.x[i] += shift * lat.width + scale * ox * lat.d;
@@ -621,15 +625,7 @@ mod reorder_tests {
                 })
                 .collect();
             sorted.sort_unstable_by_key(|&(b, x, i)| (b, x, s.id[i as usize]));
-            let kept = sorted.chunks(c).enumerate().all(|(k, seg)| {
-                let first = k * c;
-                let r = (seg[0].2 as usize).wrapping_sub(first);
-                r < c
-                    && seg
-                        .iter()
-                        .enumerate()
-                        .all(|(m, &(_, _, i))| i as usize == first + (r + m) % c)
-            });
+            let kept = crate::solver::step::blocks_rotated(&sorted, c);
             let before = s.x.clone();
             let mut order = Vec::new();
             proptest::prop_assert_eq!(s.reorder(low, lat.dy, layers, c, &mut order), !kept);
@@ -646,11 +642,7 @@ mod reorder_tests {
     /// for blocks whose bands descend more than once.
     #[test]
     fn a_block_rotated_across_a_band_edge_stays() {
-        let problem = disordering();
-        let lat = problem.lattice;
-        let c = lat.columns as usize;
-        let mut s = State::new(&lat, &problem);
-        let low = -lat.b() - 0.5 * lat.dy;
+        let (lat, mut s, c, low) = start();
         assert!(s.x[1] < s.x[2], "a layer is stored by x");
         let left = s.x[c..2 * c].iter().fold(f64::INFINITY, |m, &x| m.min(x));
         s.x[0] = 0.5 * left;

@@ -22,6 +22,8 @@ pub(crate) use integrate::kick_drift;
 #[cfg(test)]
 pub(crate) use isa::every_isa;
 pub(crate) use isa::{Isa, IsaPick};
+#[cfg(test)]
+pub(crate) use state::blocks_rotated;
 pub(crate) use state::{Params, State};
 
 /// Particles per parallel task: large enough that a task outweighs rayon's

@@ -63,6 +63,22 @@ pub(crate) struct State {
     pub pair_g: Vec<f64>,
 }
 
+/// Whether `order` (fluid particles as (band, x bits, index), sorted by
+/// band, x and id) names, block by block of `block`, the particles stored
+/// in that block in sorted order from one of them on: every block one
+/// band, in x order up to a rotation ([`State::reorder`]).
+pub(crate) fn blocks_rotated(order: &[(u64, u64, u32)], block: usize) -> bool {
+    order.chunks(block).enumerate().all(|(k, seg)| {
+        let first = k * block;
+        let r = (seg[0].2 as usize).wrapping_sub(first);
+        r < block
+            && seg
+                .iter()
+                .enumerate()
+                .all(|(m, &(_, _, i))| i as usize == first + (r + m) % block)
+    })
+}
+
 impl State {
     pub fn new(lattice: &LatticeGeometry, problem: &Problem) -> Self {
         let (mut x, mut y, layer) = lattice.positions();
@@ -198,16 +214,7 @@ impl State {
         });
         if may_keep {
             sorted(order, band);
-            let rotation = |(k, seg): (usize, &[(u64, u64, u32)])| {
-                let first = k * block;
-                let r = (seg[0].2 as usize).wrapping_sub(first);
-                r < block
-                    && seg
-                        .iter()
-                        .enumerate()
-                        .all(|(m, &(_, _, i))| i as usize == first + (r + m) % block)
-            };
-            if order.chunks(block).enumerate().all(rotation) {
+            if blocks_rotated(order, block) {
                 return false;
             }
         }
