@@ -211,6 +211,13 @@ fn band_layers(lat: &crate::problem::lattice::LatticeGeometry, cutoff: f64) -> u
     }
 }
 
+/// The low edge of the bands a rebuild stores the fluid in
+/// ([`State::reorder`], [`State::shear_reference`]): bands one layer
+/// spacing high centred on the layers, the first on the plane y = -B.
+fn bands_low(lat: &crate::problem::lattice::LatticeGeometry) -> f64 {
+    -lat.b() - 0.5 * lat.dy
+}
+
 /// What one step found that may end the run.
 struct StepCheck {
     max_abs_y: f64,
@@ -238,8 +245,7 @@ impl<'p> Sim<'p> {
         let mut list = NeighbourList::default();
         s.wrap(lat.width);
         if banded {
-            let low = -lat.b() - 0.5 * lat.dy;
-            s.reorder(low, lat.dy, band_layers, block, &mut Vec::new());
+            s.reorder(bands_low(&lat), lat.dy, band_layers, block, &mut Vec::new());
         }
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &params);
@@ -306,7 +312,7 @@ impl<'p> Sim<'p> {
                 // Bands one layer spacing high, centred on the lattice's
                 // layers: a layer that has kept its place is one band. A
                 // disordered fluid's are `band_layers` of them.
-                let low = -lat.b() - 0.5 * lat.dy;
+                let low = bands_low(lat);
                 let moved =
                     self.s
                         .reorder(low, lat.dy, self.band_layers, self.block, &mut self.order);

@@ -336,13 +336,12 @@ mod reorder_tests {
 
     /// The lattice of [`disordering`] and its start, with what a reorder
     /// of it takes: the blocks' size (its columns) and the bands' low
-    /// edge as the solver puts it (bands one layer spacing high, centred
-    /// on the layers, the first on the plane y = -B).
+    /// edge ([`super::super::bands_low`]).
     fn start() -> (LatticeGeometry, State, usize, f64) {
         let problem = disordering();
         let lat = problem.lattice;
         let s = State::new(&lat, &problem);
-        (lat, s, lat.columns as usize, -lat.b() - 0.5 * lat.dy)
+        (lat, s, lat.columns as usize, super::super::bands_low(&lat))
     }
 
     /// The fluid's state and ids after `until_t`, on `threads` threads.
