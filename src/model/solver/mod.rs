@@ -193,6 +193,53 @@ struct Sim<'p> {
     /// displacements from the reference ([`Reach`]).
     since_rebuild: f64,
     shear_rate: f64,
+    /// How far ahead along the reference the last rebuild listed the
+    /// fluid (a time, [`list_ahead`]; 0 without a reference), and the
+    /// positions it listed ([`State::ahead`]).
+    ahead: f64,
+    x_ahead: Vec<f64>,
+    /// Whether a rebuild of a disordered fluid takes a shear reference:
+    /// always, except in the test that measures what it saves.
+    use_reference: bool,
+}
+
+/// The share of its largest parting the reference's shear may reach when
+/// a list is built ahead ([`list_ahead`]).
+const AHEAD_SHARE: f64 = 0.85;
+
+/// How far ahead along the shear reference a rebuild lists the fluid: a
+/// time tau. A list built on the positions the reference reaches at tau
+/// (x0 + u(y0) tau, [`State::ahead`]) holds every pair within the cutoff
+/// there; the rule then bounds the reference's parting from tau, Lip |t -
+/// tau| ([`Reach`]), not from the rebuild, so the list lives until the
+/// parting from tau has spent the slack on either side of it. The parting
+/// that spends all the slack is L* = (C^2 - (Rh)^2) / (C Rh) (where
+/// [`Reach::slack`] is 0, C the cutoff, Rh = C - skin); tau =
+/// [`AHEAD_SHARE`] L* / Lip leaves the list at the rebuild that share of
+/// it, and lets it run to (1 + share) L* / Lip where the reference alone
+/// limits it. 0 without a reference (`shear_rate` 0) or a skin.
+fn list_ahead(cutoff: f64, skin: f64, shear_rate: f64) -> f64 {
+    let support = cutoff - skin;
+    let limit = (cutoff * cutoff - support * support) / (cutoff * support);
+    if shear_rate > 0.0 && limit > 0.0 {
+        AHEAD_SHARE * limit / shear_rate
+    } else {
+        0.0
+    }
+}
+
+/// How far the shear reference (Lipschitz constant `shear_rate`) may have
+/// parted two particles, per unit of their distance in y, `since` the
+/// rebuild, from where a list built `ahead` ([`list_ahead`]) listed them:
+/// `shear_rate` |since - ahead| ([`Reach`]). Never 0 with a reference,
+/// whose rounding the slack's margin covers; 0 without one (the rule of a
+/// lattice, [`Reach::slack`]).
+fn parting(shear_rate: f64, since: f64, ahead: f64) -> f64 {
+    if shear_rate > 0.0 {
+        (shear_rate * (since - ahead).abs()).max(f64::MIN_POSITIVE)
+    } else {
+        0.0
+    }
 }
 
 /// How many layers high the bands are that a disordered fluid is stored in
@@ -269,6 +316,9 @@ impl<'p> Sim<'p> {
             band_layers,
             since_rebuild: 0.0,
             shear_rate: 0.0,
+            ahead: 0.0,
+            x_ahead: Vec::new(),
+            use_reference: true,
         }
     }
 
@@ -298,7 +348,7 @@ impl<'p> Sim<'p> {
         let reach = Reach {
             skin: self.skin,
             cutoff: self.cutoff,
-            parting: self.shear_rate * since,
+            parting: parting(self.shear_rate, since, self.ahead),
         };
         if self.list.stale(
             |b| motion.get(b).map_or(Displacements::ZERO, |m| m.0),
@@ -321,15 +371,23 @@ impl<'p> Sim<'p> {
                 // and the rule bounds displacements from the shear of the
                 // bands (a lattice keeps the rule it had: its bits).
                 self.list.set_disordered(moved);
-                self.shear_rate = if moved {
+                self.shear_rate = if moved && self.use_reference {
                     self.s.shear_reference(low, lat.dy, lat.b())
                 } else {
                     self.s.u_ref.fill(0.0);
                     0.0
                 };
             }
+            // A disordered fluid is listed ahead along its reference.
+            self.ahead = list_ahead(self.cutoff, self.skin, self.shear_rate);
+            let x = if self.ahead > 0.0 {
+                self.s.ahead(self.ahead, lat.width, &mut self.x_ahead);
+                &self.x_ahead
+            } else {
+                &self.s.x
+            };
             self.list
-                .build(&self.s.x, &self.s.y, lat.width, self.cutoff, self.block);
+                .build(x, &self.s.y, lat.width, self.cutoff, self.block);
             self.rebuild_s += start.elapsed().as_secs_f64();
         }
         let [kernel_isa, sums_isa, forces_isa] = self.isas.each_ref().map(IsaPick::isa);

@@ -465,6 +465,99 @@ mod reorder_tests {
             .sum()
     }
 
+    /// A list built ahead along the reference ([`super::super::list_ahead`])
+    /// misses no pair the rule lets it keep: for pairs beyond the cutoff
+    /// where they were listed (the positions the reference reaches at tau),
+    /// the reference moving them toward each other by at most Lip |b| |t -
+    /// tau| at every t before the rule's slack runs out, and the rest
+    /// moving them by at most that slack, none comes within R h. At the
+    /// rebuild (t = 0) the list has room (the slack is positive), at tau it
+    /// has the whole skin less the margin, and it runs out past tau.
+    #[test]
+    fn a_list_built_ahead_misses_no_pair_its_rule_keeps() {
+        use super::super::{list_ahead, parting, Reach};
+        let (skin, cutoff, rate) = (0.3, 2.3, 0.4);
+        let reach_h = cutoff - skin;
+        let tau = list_ahead(cutoff, skin, rate);
+        let slack = |t: f64| {
+            Reach {
+                skin,
+                cutoff,
+                parting: parting(rate, t, tau),
+            }
+            .slack()
+        };
+        assert!(tau > 0.0 && slack(0.0) > 0.0, "room at the rebuild");
+        assert!((slack(tau) - skin).abs() < 1e-8, "the skin at tau");
+        // Where the reference alone spends the slack: past tau.
+        let mut end = tau;
+        while slack(end) > 0.0 {
+            end += 1e-3 * tau;
+        }
+        assert!(
+            end > 1.5 * tau,
+            "the list lives past tau: {end} against {tau}"
+        );
+        assert_eq!(list_ahead(cutoff, skin, 0.0), 0.0, "no reference");
+        assert_eq!(parting(0.0, 1.0, 0.0), 0.0, "the lattice's rule");
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..100_000 {
+            let t = end * uniform();
+            // Where it was listed: beyond the cutoff, at any angle.
+            let (r0, theta) = (cutoff * (1.0 + 1e-6 + 0.2 * uniform()), uniform() * 6.3);
+            let (a, b) = (r0 * theta.cos(), r0 * theta.sin());
+            // The reference's speed difference, at most Lip |b|, either
+            // way, for t - tau from there; then the rest, at most the
+            // slack, in any direction.
+            let du = rate * b.abs() * (2.0 * uniform() - 1.0);
+            let (rest, phi) = (slack(t).max(0.0) * uniform(), uniform() * 6.3);
+            let (x, y) = (a + du * (t - tau) + rest * phi.cos(), b + rest * phi.sin());
+            assert!(x.hypot(y) > reach_h, "t = {t}: reached {}", x.hypot(y));
+        }
+    }
+
+    /// The positions ahead along the reference lie in the strip; a fluid
+    /// particle whose position ahead wrapped moved by the strip's width
+    /// with its x0, so that its position ahead is its position plus u tau
+    /// (as the list's images need); the walls stay.
+    #[test]
+    fn positions_ahead_wrap_with_their_particles() {
+        let (lat, mut s, _, _) = start();
+        let (nf, width) = (s.n_fluid, lat.width);
+        s.wrap(width);
+        // Speeds of both signs, up to a tenth of the strip in tau = 1.
+        for i in 0..nf {
+            s.u_ref[i] = 0.1 * width * ((i as f64) * 0.618).sin();
+        }
+        let before = s.x.clone();
+        let mut ahead = Vec::new();
+        s.ahead(1.0, width, &mut ahead);
+        let mut moved = 0;
+        for i in 0..s.x.len() {
+            assert!((0.0..width).contains(&ahead[i]), "{i} in the strip");
+            if i >= nf {
+                assert_eq!((s.x[i], ahead[i]), (before[i], before[i]), "a wall stays");
+                continue;
+            }
+            let turns = (before[i] - s.x[i]) / width;
+            assert!(
+                turns == 0.0 || turns.abs() == 1.0,
+                "{i} moved {turns} widths"
+            );
+            moved += usize::from(turns != 0.0);
+            assert_eq!(s.x0[i], s.x[i], "x0 with it");
+            let off = ahead[i] - s.x[i] - s.u_ref[i];
+            assert!(off.abs() < 1e-12 * width, "{i}: {off}");
+        }
+        assert!(moved > 0 && moved < nf, "some wrapped: {moved}");
+    }
+
     /// A disordered fluid's list lives on the shear of its bands
     /// ([`State::shear_reference`], [`crate::solver::neighbours::Reach`]):
     /// Monaghan's kernel at N = 6, Re = 10, jittered by 0.3 d, disorders
@@ -492,6 +585,7 @@ mod reorder_tests {
         let rebuilds = |reference: bool| {
             rayon::scope(|_| {
                 let mut sim = Sim::new::<Monaghan>(&problem);
+                sim.use_reference = reference;
                 let (mut t, mut referenced, mut before) = (0.0, 0, sim.list.rebuilds);
                 while t < 100.0 {
                     let dt = sim.time_step().dt;
@@ -512,10 +606,6 @@ mod reorder_tests {
                                 let bound = rate * (ya - yb).abs() * (1.0 + 1e-12) + 1e-15;
                                 assert!((ua - ub).abs() <= bound, "parted faster at t = {t}");
                             }
-                        }
-                        if !reference {
-                            sim.shear_rate = 0.0;
-                            sim.s.u_ref.fill(0.0);
                         }
                     }
                     assert_eq!(missed_pairs(&sim), 0, "a pair missed at t = {t}");

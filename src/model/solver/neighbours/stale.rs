@@ -59,10 +59,13 @@ impl Displacements {
 
 /// What the rebuild rule weighs the blocks' boxes against: the skin, the
 /// cutoff the list was built with (R h + skin) and how far the shear
-/// reference has parted particles since the rebuild, per unit of their
-/// distance in y (`parting`: the reference profile's Lipschitz constant
-/// times the time since the rebuild, [`crate::solver::step`]'s
-/// `State::shear_reference`; 0 without a reference).
+/// reference has parted particles from where the list was built, per unit
+/// of their distance in y (`parting`: the reference profile's Lipschitz
+/// constant times the time from the positions listed, [`crate::solver::step`]'s
+/// `State::shear_reference`; 0 without a reference). A list built at the
+/// rebuild's positions takes the time since the rebuild; one built ahead
+/// along the reference, at the positions it reaches at tau
+/// (`State::ahead`), |t - tau|: the same bound, from there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reach {
     pub skin: f64,
@@ -75,8 +78,9 @@ impl Reach {
     /// differ (the diagonal of their blocks' boxes) before the list may
     /// miss a pair within R h = cutoff - skin; the skin itself without a
     /// reference. Each displacement is the reference's, (u(y0) t, 0), plus
-    /// the rest the boxes bound. A pair not listed was r0 = (a, b) apart,
-    /// |r0| > C = cutoff; the references move it along x by at most
+    /// the rest the boxes bound. A pair not listed was r0 = (a, b) apart
+    /// where the list was built, |r0| > C = cutoff; the references move it
+    /// from there along x by at most
     /// L = `parting` times |b|, which brings it no nearer than
     /// min over |b| <= C of sqrt((sqrt(C^2 - b^2) - L |b|)^2 + b^2)
     /// = C (sqrt(1 + L^2/4) - L/2) (at b = C sin(theta), the minimum of

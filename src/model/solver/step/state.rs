@@ -304,6 +304,32 @@ impl State {
         slope
     }
 
+    /// The positions the shear reference reaches in time `tau` (x0 +
+    /// u_ref tau for the fluid, the walls where they are), wrapped into
+    /// the strip, into `out`, for a list built ahead
+    /// ([`crate::solver::neighbours::Reach`]). A fluid particle whose
+    /// position ahead wraps across an edge of the strip is moved by the
+    /// strip's width too (with its x0, so its displacement stays): its
+    /// position and its position ahead then differ by u_ref tau alone,
+    /// and the list's images hold for both. Call after
+    /// [`Self::shear_reference`], which set x0 = x.
+    pub fn ahead(&mut self, tau: f64, width: f64, out: &mut Vec<f64>) {
+        let nf = self.n_fluid;
+        out.clear();
+        out.extend_from_slice(&self.x);
+        let fluid = self.x[..nf].iter_mut().zip(&mut self.x0).zip(&self.u_ref);
+        for (((x, x0), &u), out) in fluid.zip(&mut out[..nf]) {
+            let ahead = *x + u * tau;
+            let wrapped = ahead.rem_euclid(width);
+            let turns = ((ahead - wrapped) / width).round();
+            *out = wrapped;
+            if turns != 0.0 {
+                *x -= turns * width;
+                *x0 = *x;
+            }
+        }
+    }
+
     /// Wrap the fluid into the strip and take the current positions as the
     /// reference for the rebuild rule.
     pub fn wrap(&mut self, width: f64) {
