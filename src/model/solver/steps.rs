@@ -500,13 +500,7 @@ mod reorder_tests {
         );
         assert_eq!(list_ahead(cutoff, skin, 0.0), 0.0, "no reference");
         assert_eq!(parting(0.0, 1.0, 0.0), 0.0, "the lattice's rule");
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = neighbours::tests::uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..100_000 {
             let t = end * uniform();
             // Where it was listed: beyond the cutoff, at any angle.
@@ -559,14 +553,14 @@ mod reorder_tests {
     }
 
     /// A disordered fluid's list lives on the shear of its bands
-    /// ([`State::shear_reference`], [`crate::solver::neighbours::Reach`]):
-    /// Monaghan's kernel at N = 6, Re = 10, jittered by 0.3 d, disorders
-    /// by t = 60; at every step to t = 100 every pair within R h is
-    /// listed; at every rebuild the reference's speeds part no two
-    /// particles (the walls' 0 included) faster than its Lipschitz
-    /// constant says; and the list is rebuilt less often than when it
-    /// bounds the displacements themselves (the reference taken away at
-    /// each rebuild).
+    /// ([`State::shear_reference`], [`crate::solver::neighbours::Reach`]),
+    /// built ahead along it ([`super::super::list_ahead`]): Monaghan's
+    /// kernel at N = 6, Re = 10, jittered by 0.3 d, disorders by t = 60;
+    /// at every step to t = 100 every pair within R h is listed; at every
+    /// rebuild the reference's speeds part no two particles (the walls' 0
+    /// included) faster than its Lipschitz constant says; and the list is
+    /// rebuilt less often than when it bounds the displacements themselves
+    /// (no reference taken, the list built where the fluid is).
     #[test]
     fn a_list_on_the_shear_reference_misses_no_pair_and_lives_longer() {
         use crate::kernels::Monaghan;

@@ -670,4 +670,4 @@ pub use stale::{Displacements, Reach};
 pub use windows::Window;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

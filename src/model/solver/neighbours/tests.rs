@@ -1,5 +1,17 @@
 //! The neighbour lists' tests.
 
+/// Uniform numbers in [0, 1) from `seed` (a 64-bit LCG), for the tests'
+/// random pairs: the same sequence on every machine.
+pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 mod lists {
     use super::super::*;
     use crate::problem::lattice::LatticeGeometry;
@@ -435,13 +447,7 @@ mod stale_tests {
     fn the_slack_holds_every_unlisted_pair_beyond_the_support_and_no_more() {
         let (skin, cutoff) = (0.3, 2.3);
         let reach_h = cutoff - skin;
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = super::uniform(0x9e37_79b9_7f4a_7c15);
         for parting in [0.0, 1e-3, 0.05, 0.1, 0.2, 0.26] {
             let slack = Reach {
                 skin,
