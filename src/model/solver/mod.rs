@@ -552,6 +552,7 @@ impl<'p> Sim<'p> {
             + self.list.bytes()
             + self.motion.capacity() * size_of::<(Displacements, f64)>()
             + self.order.capacity() * size_of::<(u64, u64, u32)>()
+            + self.x_ahead.capacity() * size_of::<f64>()
     }
 }
 
