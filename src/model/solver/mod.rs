@@ -222,12 +222,15 @@ const AHEAD_SHARE: f64 = 0.85;
 /// it, and lets it run to (1 + share) L* / Lip where the reference alone
 /// limits it. The reference is 0 at the no-slip planes, so |u| <= Lip B and
 /// a particle goes at most share L* B ahead. 0 without a reference
-/// (`shear_rate` 0) or a skin.
+/// (`shear_rate` 0) or a skin, and where tau overflows (a subnormal
+/// `shear_rate`: u tau would be inf or NaN, 0 x inf, at the planes): that
+/// list is built where the fluid is, with the rule from the rebuild.
 fn list_ahead(cutoff: f64, skin: f64, shear_rate: f64) -> f64 {
     let support = cutoff - skin;
     let limit = (cutoff * cutoff - support * support) / (cutoff * support);
-    if shear_rate > 0.0 && limit > 0.0 {
-        AHEAD_SHARE * limit / shear_rate
+    let tau = AHEAD_SHARE * limit / shear_rate;
+    if shear_rate > 0.0 && limit > 0.0 && tau.is_finite() {
+        tau
     } else {
         0.0
     }

@@ -499,6 +499,8 @@ mod reorder_tests {
             "the list lives past tau: {end} against {tau}"
         );
         assert_eq!(list_ahead(cutoff, skin, 0.0), 0.0, "no reference");
+        let tiny = f64::MIN_POSITIVE / 1024.0;
+        assert_eq!(list_ahead(cutoff, skin, tiny), 0.0, "tau would overflow");
         assert_eq!(parting(0.0, 1.0, 0.0), 0.0, "the lattice's rule");
         let mut uniform = neighbours::tests::uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..100_000 {
