@@ -201,6 +201,9 @@ struct Sim<'p> {
     /// Whether a rebuild of a disordered fluid takes a shear reference:
     /// always, except in the test that measures what it saves.
     use_reference: bool,
+    /// The force pass's tiles along x ([`step::FORCE_TILE`]): that, except
+    /// in the test that checks they change no bit.
+    force_tile: usize,
 }
 
 /// The share of its largest parting the reference's shear may reach when
@@ -302,6 +305,8 @@ impl<'p> Sim<'p> {
         if banded {
             s.reorder(bands_low(&lat), lat.dy, band_layers, block, &mut Vec::new());
         }
+        // As the rebuild that stored it so would have marked it.
+        list.set_disordered(banded);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &params);
         let forces = step::forces(&mut s, &list, &params, 0.0, step::Isa::detect());
@@ -327,6 +332,7 @@ impl<'p> Sim<'p> {
             ahead: 0.0,
             x_ahead: Vec::new(),
             use_reference: true,
+            force_tile: step::FORCE_TILE,
         }
     }
 
@@ -404,7 +410,14 @@ impl<'p> Sim<'p> {
         let kernel = Instant::now();
         self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.params, sums_isa);
         let sums = Instant::now();
-        self.forces = step::forces(&mut self.s, &self.list, &self.params, 0.5 * dt, forces_isa);
+        self.forces = step::forces_in_tiles(
+            &mut self.s,
+            &self.list,
+            &self.params,
+            0.5 * dt,
+            forces_isa,
+            self.force_tile,
+        );
         let end = Instant::now();
         for ((acc, pick), (a, b)) in self.pass_s.iter_mut().zip(&mut self.isas).zip([
             (start, kernel),

@@ -421,6 +421,65 @@ mod reorder_tests {
         assert_eq!(lanes, with);
     }
 
+    /// The force pass's tiles ([`super::super::step::FORCE_TILE`]) order
+    /// its tasks, not its sums: a disordering run on a strip of 48 columns
+    /// visited in tiles of 8 particles of a layer (6 tiles across, so the
+    /// tasks run far from storage order) is the same bits as the run in
+    /// storage order, on one thread and two.
+    #[test]
+    fn the_force_pass_in_tiles_is_the_same_bits() {
+        let problem = Problem::resolve(
+            &Scene {
+                columns: Some(48),
+                ..disordering().scene
+            },
+            Composite::INFO,
+        )
+        .expect("the scene");
+        let run = |threads: usize, force_tile: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a pool");
+            pool.install(|| {
+                rayon::scope(|_| {
+                    let mut sim = Sim::new::<Composite>(&problem);
+                    sim.force_tile = force_tile;
+                    let mut t = 0.0;
+                    while t < 40.0 {
+                        let dt = sim.time_step().dt;
+                        let check = sim.advance::<Composite>(dt);
+                        assert!(sim.failure(&check).is_none(), "no failure");
+                        t += dt;
+                    }
+                    assert!(sim.list.disordered(), "the fluid was reordered");
+                    let s = &sim.s;
+                    // The tiles' order is not storage order: some task's
+                    // first particle is in an earlier tile than the task
+                    // before it's.
+                    let chunk = super::super::step::CHUNK;
+                    let tile = |c: usize| (s.x[c * chunk] / (sim.list.width() / 6.0)).floor();
+                    let tasks = s.n_fluid.div_ceil(chunk);
+                    assert!((1..tasks).any(|c| tile(c) < tile(c - 1)));
+                    let values: Vec<u64> = [&s.x, &s.y, &s.vx, &s.vy, &s.ax, &s.ay, &s.rho]
+                        .iter()
+                        .flat_map(|v| v.iter().map(|x| x.to_bits()))
+                        .collect();
+                    (values, s.n_fluid, sim.forces.v_max.to_bits())
+                })
+            })
+        };
+        assert_eq!(problem.lattice.columns / 8, 6, "6 tiles of 8 in a layer");
+        let plain = run(1, usize::MAX);
+        assert!(
+            plain.1 > 5 * super::super::step::CHUNK,
+            "tasks: {}",
+            plain.1
+        );
+        assert_eq!(run(1, 8), plain);
+        assert_eq!(run(2, 8), plain);
+    }
+
     /// The pair passes' instruction sets change no bit: a disordered run
     /// with every pass on each set this CPU runs is the run with the sets
     /// picked by cost ([`IsaPick`]), in either of the neighbour list's

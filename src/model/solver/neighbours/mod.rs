@@ -110,6 +110,8 @@ pub struct NeighbourList {
     near_start: Vec<u32>,
     near: Vec<u32>,
     pub rebuilds: u64,
+    /// The particles' blocks' size at the last build ([`Self::build`]).
+    block: usize,
 }
 
 /// The cost of a disordered fluid's build in each form, measured, and the
@@ -304,6 +306,12 @@ impl NeighbourList {
         (&self.own_entries, &self.own_owner)
     }
 
+    /// The particles' blocks' size at the last build: a lattice layer's
+    /// particle count ([`Self::build`]).
+    pub fn block(&self) -> usize {
+        self.block
+    }
+
     /// Particle i's list as windows of consecutive indices ([`Window`]),
     /// in a fixed order (by index).
     #[inline]
@@ -428,6 +436,7 @@ impl NeighbourList {
         self.width = width;
         let start = std::time::Instant::now();
         self.branch_free = self.disordered && self.forms.pick();
+        self.block = block;
         self.find_near_blocks(y, cutoff, block);
         let grid = self.bin_cells(x, y, width, cutoff);
         let (bin_start, bin_items) = (&self.bin_start, &self.bin_items);

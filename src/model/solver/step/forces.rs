@@ -238,6 +238,43 @@ pub(crate) fn forces(
     half_dt: f64,
     isa: Isa,
 ) -> Forces {
+    forces_in_tiles(s, list, params, half_dt, isa, FORCE_TILE)
+}
+
+/// Particles of a lattice layer's stretch along x that the force pass
+/// visits together, at least ([`forces_in_tiles`]): a disordered fluid
+/// whose layers hold two such tiles or more (from 1.7e5-2e5 particles on
+/// the bench's channel) is visited tile by tile. On the bench's disordered
+/// scene at 1e6 particles, 1.02-1.49x as fast as in storage order on one
+/// thread (Morris's kernel the most, whose force pass reads four bands
+/// above and below); 2048 and 8192 ran within a few per cent of 4096
+/// there, and a tile as short as a task (128) lost at 1e5
+/// (docs/performance.md, the force pass in tiles).
+pub(crate) const FORCE_TILE: usize = 4096;
+
+/// [`forces`], a disordered fluid visited in tiles of `tile` particles of
+/// a layer along x where a layer holds two or more: each thread's share
+/// of the tasks (CHUNK consecutive particles each) in storage order,
+/// ordered within by the tile their first particle's x is in, then by
+/// index. A disordered fluid's bands ([`State::reorder`]) are each stored
+/// by x, so a tile's tasks are the same stretch of x in every band of the
+/// share, and a neighbour's values and pair-table entries, read again by
+/// the next bands' particles, are still in the last-level cache; in
+/// storage order, a pass over bands longer than that cache reads them from
+/// memory once a band. The shares keep each thread on what the passes
+/// before this one left in its core's cache (tiles across the whole fluid
+/// ran 0.82-0.92x on two threads at 2e5 particles). A lattice keeps
+/// storage order: its rows stream, and tiles gained nothing on it. Each
+/// particle's sums are its own, and the tasks' results are merged by
+/// maxima and a conjunction: the order changes no result, the same bits.
+pub(crate) fn forces_in_tiles(
+    s: &mut State,
+    list: &NeighbourList,
+    params: &Params,
+    half_dt: f64,
+    isa: Isa,
+    tile: usize,
+) -> Forces {
     // The pressure form, the artificial viscosity and the walls' factor as
     // constants of the pair loop: each combination compiles to its own loop.
     // Without the artificial viscosity, walls that are not mirrored take the
@@ -253,11 +290,11 @@ pub(crate) fn forces(
     } else {
         with_av::<false>(params.has_av, mirror, gather)
     };
-    f(s, list, params, half_dt, isa)
+    f(s, list, params, half_dt, isa, tile)
 }
 
 /// The force pass with its flags as constants.
-type ForcesFn = fn(&mut State, &NeighbourList, &Params, f64, Isa) -> Forces;
+type ForcesFn = fn(&mut State, &NeighbourList, &Params, f64, Isa, usize) -> Forces;
 
 /// The flags made constants one at a time, each level two arms: a new flag
 /// is one more level, not twice the table.
@@ -298,6 +335,7 @@ pub(super) fn forces_with<
     params: &Params,
     half_dt: f64,
     isa: Isa,
+    tile: usize,
 ) -> Forces {
     assert_eq!(
         s.lane_generation,
@@ -335,15 +373,42 @@ pub(super) fn forces_with<
         params,
         half_dt,
     };
-    (
-        s.ax.par_chunks_mut(CHUNK),
-        s.ay.par_chunks_mut(CHUNK),
-        s.vx[..nf].par_chunks_mut(CHUNK),
-        s.vy[..nf].par_chunks_mut(CHUNK),
-    )
+    let task = |(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR, GATHER>(isa, c, out, &input);
+    // As many tiles as hold `tile` particles of a layer each, at least;
+    // a lattice's rows stream in storage order (measured: tiles gained
+    // nothing on the ordered scenes).
+    let tiles = list.block() / tile.max(1);
+    if tiles < 2 || !list.disordered() {
+        return (
+            s.ax.par_chunks_mut(CHUNK),
+            s.ay.par_chunks_mut(CHUNK),
+            s.vx[..nf].par_chunks_mut(CHUNK),
+            s.vy[..nf].par_chunks_mut(CHUNK),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(task)
+            .reduce(|| Forces::NONE, Forces::merge);
+    }
+    // x may have left the strip since the rebuild, or be NaN: the key
+    // only orders.
+    let tile_width = list.width() / tiles as f64;
+    let mut tasks: Vec<(usize, ForcesOut)> =
+        s.ax.chunks_mut(CHUNK)
+            .zip(s.ay.chunks_mut(CHUNK))
+            .zip(s.vx[..nf].chunks_mut(CHUNK))
+            .zip(s.vy[..nf].chunks_mut(CHUNK))
+            .map(|(((ax, ay), vx), vy)| (ax, ay, vx, vy))
+            .enumerate()
+            .collect();
+    // Each thread's share of the tasks in storage order, tiled within:
+    // the passes before this one ran each thread over its share in
+    // storage order, and left what this one reads in that core's cache.
+    let share = tasks.len().div_ceil(rayon::current_num_threads().max(1));
+    tasks.sort_by_key(|&(c, _)| (c / share, (x[c * CHUNK] / tile_width).floor() as i64, c));
+    tasks
         .into_par_iter()
-        .enumerate()
-        .map(|(c, out)| forces_chunk_on::<SYMMETRIC, AV, MIRROR, GATHER>(isa, c, out, &input))
+        .map(task)
         .reduce(|| Forces::NONE, Forces::merge)
 }
 

@@ -16,7 +16,8 @@ pub(crate) use density::{
     density, density_sums, kernel_alone_ns, kernel_pass, DENSITY_DISTANCE_FLOPS, DENSITY_SUM_FLOPS,
 };
 pub(crate) use forces::{
-    forces, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV, FORCE_PAIR_FLOPS_MIRROR,
+    forces, forces_in_tiles, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV,
+    FORCE_PAIR_FLOPS_MIRROR, FORCE_TILE,
 };
 pub(crate) use integrate::kick_drift;
 #[cfg(test)]
