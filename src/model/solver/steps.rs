@@ -360,6 +360,38 @@ mod reorder_tests {
         lane_table_max: Option<usize>,
         isa: Option<Isa>,
     ) -> (Vec<f64>, Vec<u32>) {
+        let set_up = |sim: &mut Sim| {
+            if let Some(bytes) = lane_table_max {
+                let (lat, s) = (problem.lattice, &sim.s);
+                sim.list.set_lane_table_max(bytes);
+                sim.list.build(&s.x, &s.y, lat.width, sim.cutoff, sim.block);
+                assert_eq!(sim.list.lane_table(), bytes > 0);
+            }
+            if let Some(isa) = isa {
+                sim.isas = std::array::from_fn(|_| IsaPick::fixed(isa));
+            }
+        };
+        run_until(problem, until_t, threads, set_up, |sim| {
+            let nf = sim.s.n_fluid;
+            let s = &sim.s;
+            let values = [&s.x, &s.y, &s.vx, &s.vy, &s.rho]
+                .iter()
+                .flat_map(|v| v[..nf].iter().copied())
+                .collect();
+            (values, s.id.clone())
+        })
+    }
+
+    /// `problem` run to `until_t` on `threads` threads, failing none of
+    /// its steps, `set_up` applied to its start, and what `read` takes
+    /// from its end.
+    fn run_until<R: Send>(
+        problem: &Problem,
+        until_t: f64,
+        threads: usize,
+        set_up: impl Fn(&mut Sim) + Sync,
+        read: impl Fn(&Sim) -> R + Sync,
+    ) -> R {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -367,15 +399,7 @@ mod reorder_tests {
         pool.install(|| {
             rayon::scope(|_| {
                 let mut sim = Sim::new::<Composite>(problem);
-                if let Some(bytes) = lane_table_max {
-                    let (lat, s) = (problem.lattice, &sim.s);
-                    sim.list.set_lane_table_max(bytes);
-                    sim.list.build(&s.x, &s.y, lat.width, sim.cutoff, sim.block);
-                    assert_eq!(sim.list.lane_table(), bytes > 0);
-                }
-                if let Some(isa) = isa {
-                    sim.isas = std::array::from_fn(|_| IsaPick::fixed(isa));
-                }
+                set_up(&mut sim);
                 let mut t = 0.0;
                 while t < until_t {
                     let dt = sim.time_step().dt;
@@ -383,13 +407,7 @@ mod reorder_tests {
                     assert!(sim.failure(&check).is_none(), "no failure");
                     t += dt;
                 }
-                let nf = sim.s.n_fluid;
-                let s = &sim.s;
-                let values = [&s.x, &s.y, &s.vx, &s.vy, &s.rho]
-                    .iter()
-                    .flat_map(|v| v[..nf].iter().copied())
-                    .collect();
-                (values, s.id.clone())
+                read(&sim)
             })
         })
     }
@@ -437,36 +455,22 @@ mod reorder_tests {
         )
         .expect("the scene");
         let run = |threads: usize, force_tile: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("a pool");
-            pool.install(|| {
-                rayon::scope(|_| {
-                    let mut sim = Sim::new::<Composite>(&problem);
-                    sim.force_tile = force_tile;
-                    let mut t = 0.0;
-                    while t < 40.0 {
-                        let dt = sim.time_step().dt;
-                        let check = sim.advance::<Composite>(dt);
-                        assert!(sim.failure(&check).is_none(), "no failure");
-                        t += dt;
-                    }
-                    assert!(sim.list.disordered(), "the fluid was reordered");
-                    let s = &sim.s;
-                    // The tiles' order is not storage order: some task's
-                    // first particle is in an earlier tile than the task
-                    // before it's.
-                    let chunk = super::super::step::CHUNK;
-                    let tile = |c: usize| (s.x[c * chunk] / (sim.list.width() / 6.0)).floor();
-                    let tasks = s.n_fluid.div_ceil(chunk);
-                    assert!((1..tasks).any(|c| tile(c) < tile(c - 1)));
-                    let values: Vec<u64> = [&s.x, &s.y, &s.vx, &s.vy, &s.ax, &s.ay, &s.rho]
-                        .iter()
-                        .flat_map(|v| v.iter().map(|x| x.to_bits()))
-                        .collect();
-                    (values, s.n_fluid, sim.forces.v_max.to_bits())
-                })
+            let set_up = |sim: &mut Sim| sim.force_tile = force_tile;
+            run_until(&problem, 40.0, threads, set_up, |sim| {
+                assert!(sim.list.disordered(), "the fluid was reordered");
+                let s = &sim.s;
+                // The tiles' order is not storage order: some task's
+                // first particle is in an earlier tile than the task
+                // before it's.
+                let chunk = super::super::step::CHUNK;
+                let tile = |c: usize| (s.x[c * chunk] / (sim.list.width() / 6.0)).floor();
+                let tasks = s.n_fluid.div_ceil(chunk);
+                assert!((1..tasks).any(|c| tile(c) < tile(c - 1)));
+                let values: Vec<u64> = [&s.x, &s.y, &s.vx, &s.vy, &s.ax, &s.ay, &s.rho]
+                    .iter()
+                    .flat_map(|v| v.iter().map(|x| x.to_bits()))
+                    .collect();
+                (values, s.n_fluid, sim.forces.v_max.to_bits())
             })
         };
         assert_eq!(problem.lattice.columns / 8, 6, "6 tiles of 8 in a layer");
