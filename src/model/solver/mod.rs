@@ -305,7 +305,7 @@ impl<'p> Sim<'p> {
         if banded {
             s.reorder(bands_low(&lat), lat.dy, band_layers, block, &mut Vec::new());
         }
-        // As the rebuild that stored it so would have marked it.
+        // As the rebuild that stored it in bands marked it.
         list.set_disordered(banded);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
         let max_eps = step::density::<K>(&mut s, &list, &params);
