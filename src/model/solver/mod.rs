@@ -305,9 +305,11 @@ impl<'p> Sim<'p> {
         if banded {
             s.reorder(bands_low(&lat), lat.dy, band_layers, block, &mut Vec::new());
         }
-        // As the rebuild that stored it in bands marked it.
-        list.set_disordered(banded);
         list.build(&s.x, &s.y, lat.width, cutoff, block);
+        // Marked as the rebuild that stored it in bands marked it, for the
+        // force pass ([`step::forces_in_tiles`]); after this first build,
+        // so that the build's form and its measures are those of a start.
+        list.set_disordered(banded);
         let max_eps = step::density::<K>(&mut s, &list, &params);
         let forces = step::forces(&mut s, &list, &params, 0.0, step::Isa::detect());
         Sim {
