@@ -245,11 +245,12 @@ pub(crate) fn forces(
 /// visits together, at least ([`forces_in_tiles`]): a disordered fluid
 /// whose layers hold two such tiles or more (from 1.7e5-2e5 particles on
 /// the bench's channel) is visited tile by tile. On the bench's disordered
-/// scene at 1e6 particles, 1.02-1.49x as fast as in storage order on one
-/// thread (Morris's kernel the most, whose force pass reads four bands
-/// above and below); 2048 and 8192 ran within a few per cent of 4096
-/// there, and a tile as short as a task (128) lost at 1e5
-/// (docs/performance.md, the force pass in tiles).
+/// scene at 1e6 particles, on the project's 2-core Zen 4, 1.02-1.49x as
+/// fast as in storage order on one thread (Morris's kernel the most, whose
+/// force pass reads four bands above and below); 2048 and 8192 ran within
+/// a few per cent of 4096 there, and tiles of 128 keyed by a task's place
+/// in its layer rather than by x lost at 1e5 (docs/performance.md, the
+/// force pass in tiles).
 pub(crate) const FORCE_TILE: usize = 4096;
 
 /// [`forces`], a disordered fluid visited in tiles of `tile` particles of
