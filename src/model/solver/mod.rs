@@ -70,7 +70,7 @@ use crate::problem::cost::TimeStep;
 use crate::problem::Problem;
 use frame::FrameBuf;
 use neighbours::{Displacements, Entry, NeighbourList, Reach};
-use step::{Forces, IsaPick, Params, State};
+use step::{Forces, IsaPick, Params, Pick, State};
 
 pub use diagnostics::{LayerProfile, Sample};
 pub use frame::ParticleFrame;
@@ -176,6 +176,10 @@ struct Sim<'p> {
     /// The instruction set each of those passes runs with, picked by
     /// their cost (the same bits with any, [`IsaPick`]).
     isas: [IsaPick; 3],
+    /// Where the kernel pass leaves (dW/dq)/q for the force pass, where
+    /// the list has a lane table ([`step::GForm`]): picked by the two
+    /// passes' cost together, its trial after the instruction sets'.
+    g_pick: Pick<step::GForm>,
     /// Seconds spent rebuilding the neighbour list during the steps.
     rebuild_s: f64,
     /// Whether a rebuild first stores the fluid band by band
@@ -212,6 +216,18 @@ struct Sim<'p> {
 /// within a few per cent of it on every scene; at 0.95 the fluid's own
 /// agitation spends the little room left at the rebuild.
 const AHEAD_SHARE: f64 = 0.85;
+
+/// The pick of where the kernel pass leaves (dW/dq)/q ([`step::GForm`]):
+/// the lanes until its first trial, which takes the steps after the
+/// instruction sets' trial, so that its forms do not alternate in step
+/// with theirs. Which is the quicker is the machine's: on the bench's
+/// disordered scene the gather ran 0.86-0.94 times as fast as the lanes at
+/// 1e3-1e4 particles on a 2-core Zen 4 (32 MB of last-level cache), and
+/// 1.00-1.27 times as fast on a 2-core Xeon with 2 MB of second-level
+/// cache a core (docs/performance.md).
+fn g_pick() -> Pick<step::GForm> {
+    Pick::between([step::GForm::Lanes, step::GForm::Gather], step::PICK_TRIAL)
+}
 
 /// How far ahead along the shear reference a rebuild lists the fluid: a
 /// time tau. A list built on the positions the reference reaches at tau
@@ -325,6 +341,7 @@ impl<'p> Sim<'p> {
             max_eps,
             pass_s: [0.0; 3],
             isas: std::array::from_fn(|_| IsaPick::new()),
+            g_pick: g_pick(),
             rebuild_s: 0.0,
             reorder: true,
             order: Vec::new(),
@@ -406,9 +423,20 @@ impl<'p> Sim<'p> {
                 .build(x, &self.s.y, lat.width, self.cutoff, self.block);
             self.rebuild_s += start.elapsed().as_secs_f64();
         }
-        let [kernel_isa, sums_isa, forces_isa] = self.isas.each_ref().map(IsaPick::isa);
+        let [kernel_isa, sums_isa, forces_isa] = self.isas.each_ref().map(IsaPick::next);
+        // A list without a lane table gathers, and its steps do not count
+        // in the pick.
+        let g_form = if self.list.lane_table() {
+            self.g_pick.next()
+        } else {
+            step::GForm::Gather
+        };
+        if !self.list.lane_table() || !self.g_pick.trying() {
+            // The other form's table holds no memory until the next trial.
+            self.s.free_g_but(g_form);
+        }
         let start = Instant::now();
-        step::kernel_pass::<K>(&mut self.s, &self.list, &self.params, kernel_isa);
+        step::kernel_pass::<K>(&mut self.s, &self.list, &self.params, kernel_isa, g_form);
         let kernel = Instant::now();
         self.max_eps = step::density_sums::<K>(&mut self.s, &self.list, &self.params, sums_isa);
         let sums = Instant::now();
@@ -429,6 +457,10 @@ impl<'p> Sim<'p> {
             let seconds = (b - a).as_secs_f64();
             *acc += seconds;
             pick.record(seconds);
+        }
+        if self.list.lane_table() {
+            let seconds = (kernel - start) + (end - sums);
+            self.g_pick.record(seconds.as_secs_f64());
         }
         StepCheck { max_abs_y }
     }
@@ -536,8 +568,9 @@ impl<'p> Sim<'p> {
     /// force pass reads each window (its start and lanes, 8) and its
     /// lanes' (dW/dq)/q (8 a lane), the particle arrays x, y, vx, vy
     /// predicted, P, m/rho (and the wall depth), and reads and writes the
-    /// fluid's rho, v and a. A list without a lane table
-    /// ([`NeighbourList::lane_table`]): the kernel pass writes (dW/dq)/q
+    /// fluid's rho, v and a. Steps that leave (dW/dq)/q in the pair table
+    /// ([`step::GForm::Gather`], as [`Self::g_form`] says the steps after
+    /// the last trial did): the kernel pass writes (dW/dq)/q
     /// once a pair (8) and reads no lanes, and the force pass reads each
     /// window's sources (4 a lane) and the pair table's (dW/dq)/q (8 a
     /// pair) instead of the lanes' values.
@@ -549,7 +582,7 @@ impl<'p> Sim<'p> {
             .sum();
         let windows = self.list.window_count() as f64;
         let depth = if self.params.mirror_walls { 8.0 } else { 0.0 };
-        let lane_table = self.list.lane_table();
+        let lane_table = self.g_form() == step::GForm::Lanes;
         let kernel = own * if lane_table { 40.0 } else { 24.0 } + 16.0 * n;
         let sum = padded * 12.0 + 4.0 * n + 32.0 * n;
         let window = size_of::<crate::solver::neighbours::Window>() as f64;
@@ -562,6 +595,15 @@ impl<'p> Sim<'p> {
         };
         let forces = windows * window + g + (48.0 + depth) * n + (8.0 + 32.0 + 16.0) * nf;
         kernel + sum + forces
+    }
+
+    /// Where the steps after the last trial leave (dW/dq)/q.
+    fn g_form(&self) -> step::GForm {
+        if self.list.lane_table() {
+            self.g_pick.chosen()
+        } else {
+            step::GForm::Gather
+        }
     }
 
     /// Bytes held by the particle arrays and the neighbour structure.

@@ -81,10 +81,11 @@ pub struct StepsRun {
     pub fluid_window_lanes: usize,
     /// Of those lanes, the listed ones.
     pub fluid_listed_lanes: usize,
-    /// Whether the last list had a window-lane table
-    /// ([`neighbours::NeighbourList::lane_table`]) or the force pass
-    /// gathered from the pair table.
-    pub lane_table: bool,
+    /// Where the steps after the last trial left (dW/dq)/q for the force
+    /// pass: the window lanes or the pair table ([`super::step::GForm`], as its
+    /// cost picked where the last list had a lane table): its name,
+    /// "lanes" or "pairs".
+    pub g_form: &'static str,
     pub pass_bytes_per_step: f64,
     pub outcome: Outcome,
     /// Diagnostics after the last step (against the start-up series when
@@ -256,7 +257,7 @@ fn timed<K: Kernel>(mut sim: Sim, steps: u64) -> StepsRun {
             .flat_map(|i| sim.list.windows(i))
             .map(|w| w.mask().count_ones() as usize)
             .sum(),
-        lane_table: sim.list.lane_table(),
+        g_form: sim.g_form().name(),
         pass_bytes_per_step: sim.pass_bytes(),
         outcome,
         last: sim.sample(t, taken, dt),
@@ -313,7 +314,7 @@ mod reorder_tests {
     use crate::kernels::Composite;
     use crate::problem::lattice::LatticeGeometry;
     use crate::solver::neighbours::{Entry, LANE_TABLE_MAX_BYTES};
-    use crate::solver::step::{every_isa, Isa, IsaPick};
+    use crate::solver::step::{every_isa, GForm, Isa, IsaPick, Pick};
 
     /// The composite kernel on the square lattice at h = d, from rest:
     /// its lattice disorders by t = 11, so the rebuilds after that store
@@ -346,19 +347,20 @@ mod reorder_tests {
 
     /// The fluid's state and ids after `until_t`, on `threads` threads.
     fn state_after(problem: &Problem, until_t: f64, threads: usize) -> (Vec<f64>, Vec<u32>) {
-        state_after_with(problem, until_t, threads, None, None)
+        state_after_with(problem, until_t, threads, None, None, None)
     }
 
     /// [`state_after`] with lists of at most `lane_table_max` bytes of
     /// window-lane table ([`NeighbourList::lane_table`]), the first list
-    /// included, and with every pair pass on the instruction set `isa`
-    /// instead of the ones picked by cost.
+    /// included, with every pair pass on the instruction set `isa`, and
+    /// (dW/dq)/q left in `form`, instead of the ones picked by cost.
     fn state_after_with(
         problem: &Problem,
         until_t: f64,
         threads: usize,
         lane_table_max: Option<usize>,
         isa: Option<Isa>,
+        form: Option<GForm>,
     ) -> (Vec<f64>, Vec<u32>) {
         let set_up = |sim: &mut Sim| {
             if let Some(bytes) = lane_table_max {
@@ -369,6 +371,9 @@ mod reorder_tests {
             }
             if let Some(isa) = isa {
                 sim.isas = std::array::from_fn(|_| IsaPick::fixed(isa));
+            }
+            if let Some(form) = form {
+                sim.g_pick = Pick::fixed(form);
             }
         };
         run_until(problem, until_t, threads, set_up, |sim| {
@@ -426,17 +431,26 @@ mod reorder_tests {
         assert_eq!(bits(&one), bits(&two));
     }
 
-    /// Without a window-lane table the force pass gathers each window's
-    /// (dW/dq)/q from the pair table: the same values in the same lanes, so
-    /// a disordered run with its rebuilds and reorders is the same bits.
+    /// Where the kernel pass leaves (dW/dq)/q ([`GForm`]) changes no bit:
+    /// the force pass gathers each window's from the pair table or loads
+    /// it from the window-lane table, the same values in the same lanes. A
+    /// disordering run, with its rebuilds and reorders, is the same bits
+    /// with the lanes throughout, the gather throughout, lists without a
+    /// lane table, and the form picked by cost, whose trial switches form
+    /// step by step within one list.
     #[test]
-    fn a_run_without_a_lane_table_is_the_same_bits() {
+    fn where_the_kernel_pass_leaves_its_gradients_changes_no_bit() {
         let problem = disordering();
-        let with = state_after(&problem, 40.0, 1);
-        assert_eq!(state_after_with(&problem, 40.0, 1, Some(0), None), with);
+        let picked = state_after(&problem, 40.0, 1);
+        for form in [GForm::Lanes, GForm::Gather] {
+            let fixed = state_after_with(&problem, 40.0, 1, None, None, Some(form));
+            assert_eq!(fixed, picked, "{form:?}");
+        }
+        let without = state_after_with(&problem, 40.0, 1, Some(0), None, None);
+        assert_eq!(without, picked);
         // The default: a lane table for this small strip.
-        let lanes = state_after_with(&problem, 40.0, 1, Some(LANE_TABLE_MAX_BYTES), None);
-        assert_eq!(lanes, with);
+        let lanes = state_after_with(&problem, 40.0, 1, Some(LANE_TABLE_MAX_BYTES), None, None);
+        assert_eq!(lanes, picked);
     }
 
     /// The force pass's tiles ([`super::super::step::FORCE_TILE`]) order
@@ -486,16 +500,16 @@ mod reorder_tests {
 
     /// The pair passes' instruction sets change no bit: a disordered run
     /// with every pass on each set this CPU runs is the run with the sets
-    /// picked by cost ([`IsaPick`]), in either of the neighbour list's
-    /// forms of (dW/dq)/q.
+    /// picked by cost ([`IsaPick`]), in either of the kernel pass's forms
+    /// of (dW/dq)/q ([`GForm`]).
     #[test]
     fn a_run_does_not_depend_on_the_passes_instruction_sets() {
         let problem = disordering();
-        for lane_table_max in [None, Some(0)] {
-            let picked = state_after_with(&problem, 40.0, 1, lane_table_max, None);
+        for form in [GForm::Lanes, GForm::Gather] {
+            let picked = state_after_with(&problem, 40.0, 1, None, None, Some(form));
             for isa in every_isa() {
-                let fixed = state_after_with(&problem, 40.0, 1, lane_table_max, Some(isa));
-                assert_eq!(fixed, picked, "{isa:?}, {lane_table_max:?}");
+                let fixed = state_after_with(&problem, 40.0, 1, None, Some(isa), Some(form));
+                assert_eq!(fixed, picked, "{isa:?}, {form:?}");
             }
         }
     }

@@ -219,8 +219,9 @@ pub struct Row {
     pub forces_ns_per_lane: f64,
     pub forces_lane_bound_ns: f64,
     pub lane_use: f64,
-    /// Where the force pass read (dW/dq)/q: "lanes" (the window-lane
-    /// table) or "pairs" (gathered from the pair table,
+    /// Where the force pass read (dW/dq)/q after the last trial: "lanes"
+    /// (the window-lane table) or "pairs" (gathered from the pair table;
+    /// the solver picks by cost where the list has a lane table,
     /// [`crate::solver::neighbours::NeighbourList::lane_table`]).
     pub force_g: &'static str,
     /// The f64 lanes of the vectors the kernel pass, the density sums and
@@ -500,7 +501,7 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                     forces_ns_per_lane: core_ns_per(2, r.fluid_window_lanes),
                     forces_lane_bound_ns,
                     lane_use: r.fluid_listed_lanes as f64 / r.fluid_window_lanes as f64,
-                    force_g: if r.lane_table { "lanes" } else { "pairs" },
+                    force_g: r.g_form,
                     pass_lanes: r.pass_lanes,
                     core_ns_per_particle_step: per_step * cores_used / particles as f64 * 1e9,
                     floor_core_ns_per_particle_step: (floor_kernel + floor_forces)

@@ -39,16 +39,17 @@ use rayon::prelude::*;
 /// The largest window-lane table ([`NeighbourList::lane_table`]), 8 bytes
 /// a lane and LANES lanes a window. Beyond it the table (written by two
 /// scattered stores a pair in the kernel pass, read back in the force
-/// pass) leaves the caches, and the force pass gathers each window's
-/// (dW/dq)/q from the pair table instead, which moves fewer bytes; below
-/// it the table's contiguous loads win. Both forms side by side on
-/// `bench --disordered` (1 thread, 2 alternating rounds on the 2-core AMD
-/// EPYC with 32 MB of last-level cache,
-/// bench/peers/results/2026-12-05-force-pass-gather/): the gather 0.86-0.94
-/// times as fast at 1e3-1e4 particles, 1.03-1.06 at 3e4, 1.05-1.08 at 5e4
-/// (Monaghan's table there about 3, 9 and 15 MB: the default switches
-/// between 1e4 and 3e4; the composite kernel's tables are smaller). The
-/// crossover is this machine's; another cache size moves it.
+/// pass) leaves the caches, and the force pass always gathers each
+/// window's (dW/dq)/q from the pair table, which moves fewer bytes; below
+/// it the solver picks the quicker of the two by their cost
+/// (`step::GForm`). Both forms side by side on `bench --disordered` (1
+/// thread, 2 alternating rounds on the 2-core AMD EPYC with 32 MB of
+/// last-level cache, bench/peers/results/2026-12-05-force-pass-gather/):
+/// the gather 0.86-0.94 times as fast at 1e3-1e4 particles, 1.03-1.06 at
+/// 3e4, 1.05-1.08 at 5e4 (Monaghan's table there about 3, 9 and 15 MB;
+/// the composite kernel's tables are smaller). On a 2-core Xeon with 2 MB
+/// of second-level cache a core the gather won from 1e3 (1.00-1.27 times
+/// as fast at 1e3-3e4): the pick, not this bound, takes it there.
 pub const LANE_TABLE_MAX_BYTES: usize = 8 << 20;
 
 /// Particles per parallel task when building.
@@ -341,13 +342,14 @@ impl NeighbourList {
         &self.lane_of
     }
 
-    /// Whether the force pass reads each window's (dW/dq)/q as one vector
-    /// from a window-lane table the kernel pass fills
-    /// ([`Self::lanes_of_pairs`]), or gathers it from the pair table
-    /// through [`Self::window_sources`]. The same values in the same lanes,
-    /// so the same bits either way; the table is contiguous loads where it
-    /// stays in cache, the gather moves fewer bytes where it does not
-    /// ([`LANE_TABLE_MAX_BYTES`]).
+    /// Whether the force pass may read each window's (dW/dq)/q as one
+    /// vector from a window-lane table the kernel pass fills
+    /// ([`Self::lanes_of_pairs`]), rather than gather it from the pair
+    /// table through [`Self::window_sources`]. The same values in the same
+    /// lanes, so the same bits either way; the table is contiguous loads,
+    /// the gather moves fewer bytes. Beyond [`LANE_TABLE_MAX_BYTES`] the
+    /// list has no table; below, the solver's steps pick the quicker form
+    /// by its cost.
     pub fn lane_table(&self) -> bool {
         self.lane_table
     }

@@ -99,22 +99,50 @@ pub(super) fn pair_gather(sources: &[u32], run: (usize, usize), pair_w: &[f64]) 
 /// ([`NeighbourList::own`]) streamed in equal pieces without padding
 /// ([`NeighbourList::own_stream`]); then per particle the sum of W over all its
 /// slots, each taken from where it was evaluated. The (dW/dq)/q of every
-/// pair is kept for [`super::forces::forces`] in both window lanes that
-/// list it.
+/// pair is kept for [`super::forces::forces`] beside W in the pair table
+/// (one evaluation: the solver's steps pick their form by its cost,
+/// [`GForm`]).
 pub(crate) fn density<K: Kernel>(s: &mut State, list: &NeighbourList, params: &Params) -> f64 {
     let isa = Isa::detect();
-    kernel_pass::<K>(s, list, params, isa);
+    kernel_pass::<K>(s, list, params, isa, GForm::Gather);
     density_sums::<K>(s, list, params, isa)
 }
 
+/// Where the kernel pass leaves each pair's (dW/dq)/q for the force pass:
+/// in both window lanes that list it (a window's eight then load as one
+/// vector), or beside W in the pair table (the force pass gathers a
+/// window's eight through its sources, [`NeighbourList::window_sources`]).
+/// The same value reaches the same lane either way: the same bits. The
+/// lanes are the quicker form while their table stays in a cache near the
+/// core, and the stores into it cost less than the gathers; which is, is
+/// the machine's (the solver picks by cost, `Sim::g_pick`). A list whose
+/// table would exceed [`crate::solver::neighbours::LANE_TABLE_MAX_BYTES`]
+/// has no lanes ([`NeighbourList::lane_table`]) and takes the gather.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum GForm {
+    Lanes,
+    Gather,
+}
+
+impl GForm {
+    /// Its name in `bench`'s table: "lanes" or "pairs".
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            GForm::Lanes => "lanes",
+            GForm::Gather => "pairs",
+        }
+    }
+}
+
 /// The first half of [`density`], timed apart by the solver: W of every
-/// own pair into the pair table, its (dW/dq)/q into the window-lane table;
-/// compiled for `isa`.
+/// own pair into the pair table, its (dW/dq)/q where `form` says (the
+/// pair table where the list has no lane table); compiled for `isa`.
 pub(crate) fn kernel_pass<K: Kernel>(
     s: &mut State,
     list: &NeighbourList,
     params: &Params,
     isa: Isa,
+    form: GForm,
 ) {
     // The pair table and after it a place kept at zero that padding reads:
     // resized when a rebuild changed the number of own pairs.
@@ -127,15 +155,14 @@ pub(crate) fn kernel_pass<K: Kernel>(
     let n = s.x.len();
     let input = DensityIn::new((&s.x[..n], &s.y[..n]), s.n_fluid, list, params);
     let (entries, owners) = list.own_stream();
-    if !list.lane_table() {
+    if form == GForm::Gather || !list.lane_table() {
         // (dW/dq)/q beside W in the pair table, for the force pass to
-        // gather ([`NeighbourList::lane_table`]).
+        // gather.
         if s.pair_g.len() != pairs + 1 {
             s.pair_g.clear();
             s.pair_g.resize(pairs + 1, 0.0);
         }
-        s.lane_g = Vec::new();
-        s.lane_generation = list.generation();
+        s.g_written = (list.generation(), GForm::Gather);
         (
             s.pair_w[..pairs].par_chunks_mut(STREAM_CHUNK),
             s.pair_g[..pairs].par_chunks_mut(STREAM_CHUNK),
@@ -146,7 +173,6 @@ pub(crate) fn kernel_pass<K: Kernel>(
             .for_each(|(w, g, e, o)| pair_table_chunk_on::<K>(isa, (w, g), e, o, &input));
         return;
     }
-    s.pair_g = Vec::new();
     // The window-lane table, zeroed for each new list: a lane not listed is
     // never written and stays 0.
     if s.lane_generation != list.generation() {
@@ -154,6 +180,7 @@ pub(crate) fn kernel_pass<K: Kernel>(
         s.lane_g.resize(list.window_count() * LANES, 0.0);
         s.lane_generation = list.generation();
     }
+    s.g_written = (list.generation(), GForm::Lanes);
     let lane_g = as_atomic(&mut s.lane_g);
     let lanes = list.lanes_of_pairs();
     (

@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use super::density::GForm;
 use super::isa::{lane_sum, Isa};
 use super::state::{Params, State};
 use super::CHUNK;
@@ -216,7 +217,7 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool
 
 /// Accelerations of the fluid, then the closing kick v += dt/2 a, over the
 /// listed pairs with the (dW/dq)/q that [`super::density::kernel_pass`]
-/// left in the window lanes (0 out of reach).
+/// left in the window lanes or the pair table (0 out of reach, [`GForm`]).
 ///
 /// - pressure (12): -(m / rho_i^2) sum (P_i + P_j) grad_i W_ij, or the
 ///   symmetric -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij;
@@ -285,7 +286,9 @@ pub(crate) fn forces_in_tiles(
     // finds too little work a lane to pay for the gather of (dW/dq)/q):
     // 1.6x the whole run on one thread (measured with `shearsph bench`).
     let mirror = params.mirror_walls || !params.has_av;
-    let gather = !list.lane_table();
+    // Where the kernel pass left (dW/dq)/q for this list (checked in
+    // `forces_with`).
+    let gather = s.g_written.1 == GForm::Gather;
     let f = if params.symmetric {
         with_av::<true>(params.has_av, mirror, gather)
     } else {
@@ -338,10 +341,11 @@ pub(super) fn forces_with<
     isa: Isa,
     tile: usize,
 ) -> Forces {
+    let form = if GATHER { GForm::Gather } else { GForm::Lanes };
     assert_eq!(
-        s.lane_generation,
-        list.generation(),
-        "the kernel pass ran on this list"
+        s.g_written,
+        (list.generation(), form),
+        "the kernel pass ran on this list, in this form"
     );
     let nf = s.n_fluid;
     let n = s.x.len();

@@ -79,30 +79,37 @@ impl Isa {
 }
 
 /// Calls of a pass that a pick's trial takes, its candidates in turn, and
-/// the calls after which it tries again ([`IsaPick`]).
-const TRIAL: u32 = 16;
+/// the calls after which it tries again ([`Pick`]).
+pub(crate) const TRIAL: u32 = 16;
 const PERIOD: u32 = 4096;
 
-/// The instruction set one pair pass of the step runs with, picked by what
-/// it cost. Every candidate gives the same bits (the pass's functions are
-/// the same operations in the same order on every instruction set, which
-/// the tests compare), so the pick changes only the speed. The candidates
-/// are the set detected and, under AVX-512, AVX2: a CPU that runs 512-bit
-/// vectors as two halves (AMD's Zen 4) runs a pass whose vectors are
-/// mostly gathers faster with 256-bit ones, and one of arithmetic slower
-/// (docs/performance.md). Every PERIOD calls, the first TRIAL take the
-/// candidates in turn, and the one whose quickest call was the quicker
-/// runs the rest: the quickest, not the total, as a call right after a
-/// rebuild also zeroes its tables.
+/// One of two forms of a pass (an instruction set, [`IsaPick`]; where the
+/// kernel pass leaves (dW/dq)/q, [`super::GForm`]), picked by what it
+/// cost. Every candidate gives the same bits, so the pick changes only the
+/// speed. Every PERIOD calls, the TRIAL calls from the pick's `offset`
+/// take the candidates in turn, and the one whose quickest call was the
+/// quicker runs the rest: the quickest, not the total, as a call right
+/// after a rebuild also zeroes its tables. Picks of passes timed in the
+/// same steps take their trials at different offsets, so that no trial's
+/// candidates alternate in step with another's.
 #[derive(Debug, Clone)]
-pub(crate) struct IsaPick {
-    candidates: [Isa; 2],
+pub(crate) struct Pick<T> {
+    candidates: [T; 2],
     quickest: [f64; 2],
     calls: u32,
-    chosen: Isa,
+    offset: u32,
+    chosen: T,
 }
 
-impl IsaPick {
+/// The instruction set one pair pass of the step runs with (the pass's
+/// functions are the same operations in the same order on every set, which
+/// the tests compare: the same bits). The candidates are the set detected and, under AVX-512, AVX2: a CPU that
+/// runs 512-bit vectors as two halves (AMD's Zen 4) runs a pass whose
+/// vectors are mostly gathers faster with 256-bit ones, and one of
+/// arithmetic slower (docs/performance.md).
+pub(crate) type IsaPick = Pick<Isa>;
+
+impl Pick<Isa> {
     /// Between the set detected and, under AVX-512, AVX2.
     pub(crate) fn new() -> IsaPick {
         let detected = Isa::detect();
@@ -114,41 +121,57 @@ impl IsaPick {
         };
         #[cfg(not(target_arch = "x86_64"))]
         let other = detected;
-        IsaPick::between([detected, other])
+        Pick::between([detected, other], 0)
     }
+}
 
-    /// Always `isa` (for the tests that compare instruction sets).
+impl<T: Copy> Pick<T> {
+    /// Always `form` (for the tests that compare forms).
     #[cfg(test)]
-    pub(crate) fn fixed(isa: Isa) -> IsaPick {
-        IsaPick::between([isa, isa])
+    pub(crate) fn fixed(form: T) -> Pick<T> {
+        Pick::between([form, form], 0)
     }
 
-    fn between(candidates: [Isa; 2]) -> IsaPick {
-        IsaPick {
+    /// Between `candidates`, the first until the first trial, which takes
+    /// the calls from `offset` (below PERIOD - TRIAL).
+    pub(crate) fn between(candidates: [T; 2], offset: u32) -> Pick<T> {
+        assert!(offset + TRIAL <= PERIOD);
+        Pick {
             candidates,
             quickest: [f64::INFINITY; 2],
             calls: 0,
+            offset,
             chosen: candidates[0],
         }
     }
 
-    /// The instruction set for the next call.
-    pub(crate) fn isa(&self) -> Isa {
-        if self.calls < TRIAL {
-            self.candidates[(self.calls % 2) as usize]
-        } else {
-            self.chosen
+    /// The call's place in the trial, if it is in one.
+    fn in_trial(&self) -> Option<u32> {
+        let k = self.calls.checked_sub(self.offset)?;
+        (k < TRIAL).then_some(k)
+    }
+
+    /// Whether the next call is one of a trial's.
+    pub(crate) fn trying(&self) -> bool {
+        self.in_trial().is_some()
+    }
+
+    /// The form for the next call.
+    pub(crate) fn next(&self) -> T {
+        match self.in_trial() {
+            Some(k) => self.candidates[(k % 2) as usize],
+            None => self.chosen,
         }
     }
 
-    /// The seconds the call with [`Self::isa`] took.
+    /// The seconds the call with [`Self::next`] took.
     pub(crate) fn record(&mut self, seconds: f64) {
-        if self.calls < TRIAL {
-            let q = &mut self.quickest[(self.calls % 2) as usize];
+        if let Some(k) = self.in_trial() {
+            let q = &mut self.quickest[(k % 2) as usize];
             *q = q.min(seconds);
-            if self.calls + 1 == TRIAL {
-                let k = usize::from(self.quickest[1] < self.quickest[0]);
-                self.chosen = self.candidates[k];
+            if k + 1 == TRIAL {
+                let c = usize::from(self.quickest[1] < self.quickest[0]);
+                self.chosen = self.candidates[c];
             }
         }
         self.calls += 1;
@@ -158,8 +181,8 @@ impl IsaPick {
         }
     }
 
-    /// The set the calls after the last trial run with.
-    pub(crate) fn chosen(&self) -> Isa {
+    /// The form the calls after the last trial run with.
+    pub(crate) fn chosen(&self) -> T {
         self.chosen
     }
 }
@@ -174,7 +197,7 @@ mod tests {
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn a_pick_takes_the_quicker_set_and_tries_again() {
-        let mut pick = IsaPick::between([Isa::Avx512, Isa::Avx2]);
+        let mut pick = IsaPick::between([Isa::Avx512, Isa::Avx2], 0);
         // AVX2 quicker, but for one slow call.
         let cost = |isa: Isa, call: u32| match isa {
             Isa::Avx512 => 1.0,
@@ -182,21 +205,43 @@ mod tests {
             _ => 0.8,
         };
         for call in 0..TRIAL {
-            let isa = pick.isa();
+            let isa = pick.next();
             assert_eq!(isa, [Isa::Avx512, Isa::Avx2][(call % 2) as usize]);
             pick.record(cost(isa, call));
         }
         assert_eq!(pick.chosen(), Isa::Avx2);
         for _ in TRIAL..PERIOD {
-            assert_eq!(pick.isa(), Isa::Avx2);
+            assert_eq!(pick.next(), Isa::Avx2);
             pick.record(0.8);
         }
         // The next trial, where AVX-512 is now the quicker.
         for call in 0..TRIAL {
-            let isa = pick.isa();
+            let isa = pick.next();
             assert_eq!(isa, [Isa::Avx512, Isa::Avx2][(call % 2) as usize]);
             pick.record(if isa == Isa::Avx512 { 0.5 } else { 0.8 });
         }
-        assert_eq!((pick.isa(), pick.chosen()), (Isa::Avx512, Isa::Avx512));
+        assert_eq!((pick.next(), pick.chosen()), (Isa::Avx512, Isa::Avx512));
+    }
+
+    /// A pick with an offset runs its first candidate until its trial,
+    /// which takes the TRIAL calls from the offset, every PERIOD calls.
+    #[test]
+    fn a_pick_with_an_offset_tries_after_it() {
+        let mut pick = Pick::between([true, false], TRIAL);
+        let cost = |form: bool| if form { 1.0 } else { 0.5 };
+        for round in 0..2 {
+            for call in 0..PERIOD {
+                let form = pick.next();
+                let trial = (TRIAL..2 * TRIAL).contains(&call);
+                let want = if trial {
+                    (call - TRIAL).is_multiple_of(2)
+                } else {
+                    // The first candidate until the first trial.
+                    round == 0 && call < TRIAL
+                };
+                assert_eq!(form, want, "round {round}, call {call}");
+                pick.record(cost(form));
+            }
+        }
     }
 }

@@ -13,7 +13,8 @@ mod isa;
 mod state;
 
 pub(crate) use density::{
-    density, density_sums, kernel_alone_ns, kernel_pass, DENSITY_DISTANCE_FLOPS, DENSITY_SUM_FLOPS,
+    density, density_sums, kernel_alone_ns, kernel_pass, GForm, DENSITY_DISTANCE_FLOPS,
+    DENSITY_SUM_FLOPS,
 };
 pub(crate) use forces::{
     forces, forces_in_tiles, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV,
@@ -22,7 +23,7 @@ pub(crate) use forces::{
 pub(crate) use integrate::kick_drift;
 #[cfg(test)]
 pub(crate) use isa::every_isa;
-pub(crate) use isa::{Isa, IsaPick};
+pub(crate) use isa::{Isa, IsaPick, Pick, TRIAL as PICK_TRIAL};
 #[cfg(test)]
 pub(crate) use state::blocks_rotated;
 pub(crate) use state::{Params, State};

@@ -52,15 +52,18 @@ pub(crate) struct State {
     /// window lanes that list it, LANES per
     /// [`crate::solver::neighbours::Window`] in the list's order
     /// ([`NeighbourList::lanes_of_pairs`]), 0 in a lane not listed; for
-    /// the list build `lane_generation` ([`NeighbourList::generation`]). The
-    /// force pass has no distance test and no kernel.
+    /// the list build `lane_generation` ([`NeighbourList::generation`]),
+    /// whose lanes not listed it zeroed. The force pass has no distance
+    /// test and no kernel.
     pub lane_g: Vec<f64>,
     pub lane_generation: u64,
-    /// Or, for a list without a lane table
-    /// ([`NeighbourList::lane_table`]), (dW/dq)/q in the pair table's
-    /// places as W is, with the zero place after them, for the force pass
-    /// to gather.
+    /// Or (the kernel pass's other form, [`super::GForm`]) (dW/dq)/q in
+    /// the pair table's places as W is, with the zero place after them,
+    /// for the force pass to gather.
     pub pair_g: Vec<f64>,
+    /// The list build the last kernel pass ran on, and the form it left
+    /// (dW/dq)/q in: the force pass reads it there.
+    pub g_written: (u64, super::GForm),
 }
 
 /// Whether `order` (fluid particles as (band, x bits, index), sorted by
@@ -135,6 +138,19 @@ impl State {
             lane_g: Vec::new(),
             lane_generation: u64::MAX,
             pair_g: Vec::new(),
+            g_written: (u64::MAX, super::GForm::Gather),
+        }
+    }
+
+    /// Frees where the kernel pass leaves (dW/dq)/q in the form other than
+    /// `form` (the steps take `form` until their pick's next trial).
+    pub(crate) fn free_g_but(&mut self, form: super::GForm) {
+        match form {
+            super::GForm::Lanes => self.pair_g = Vec::new(),
+            super::GForm::Gather => {
+                self.lane_g = Vec::new();
+                self.lane_generation = u64::MAX;
+            }
         }
     }
 
