@@ -424,8 +424,8 @@ impl<'p> Sim<'p> {
             self.rebuild_s += start.elapsed().as_secs_f64();
         }
         let [kernel_isa, sums_isa, forces_isa] = self.isas.each_ref().map(IsaPick::next);
-        // A list without a lane table gathers, and its steps do not count
-        // in the pick.
+        // A list without a lane table gathers, and its steps measure
+        // nothing for the pick.
         let g_form = if self.list.lane_table() {
             self.g_pick.next()
         } else {
@@ -461,6 +461,8 @@ impl<'p> Sim<'p> {
         if self.list.lane_table() {
             let seconds = (kernel - start) + (end - sums);
             self.g_pick.record(seconds.as_secs_f64());
+        } else {
+            self.g_pick.skip();
         }
         StepCheck { max_abs_y }
     }

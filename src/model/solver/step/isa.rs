@@ -102,11 +102,12 @@ pub(crate) struct Pick<T> {
 }
 
 /// The instruction set one pair pass of the step runs with (the pass's
-/// functions are the same operations in the same order on every set, which
-/// the tests compare: the same bits). The candidates are the set detected and, under AVX-512, AVX2: a CPU that
-/// runs 512-bit vectors as two halves (AMD's Zen 4) runs a pass whose
-/// vectors are mostly gathers faster with 256-bit ones, and one of
-/// arithmetic slower (docs/performance.md).
+/// functions are the same operations in the same order on every set,
+/// which the tests compare: the same bits). The candidates are the set
+/// detected and, under AVX-512, AVX2: a CPU that runs 512-bit vectors as
+/// two halves (AMD's Zen 4) runs a pass whose vectors are mostly gathers
+/// faster with 256-bit ones, and one of arithmetic slower
+/// (docs/performance.md).
 pub(crate) type IsaPick = Pick<Isa>;
 
 impl Pick<Isa> {
@@ -166,10 +167,24 @@ impl<T: Copy> Pick<T> {
 
     /// The seconds the call with [`Self::next`] took.
     pub(crate) fn record(&mut self, seconds: f64) {
+        self.count(Some(seconds));
+    }
+
+    /// A call that took neither candidate (the pass had one form then):
+    /// counted, so that the trials keep their place among the calls, and
+    /// not measured. A trial without a measure of each candidate keeps the
+    /// choice it found.
+    pub(crate) fn skip(&mut self) {
+        self.count(None);
+    }
+
+    fn count(&mut self, seconds: Option<f64>) {
         if let Some(k) = self.in_trial() {
-            let q = &mut self.quickest[(k % 2) as usize];
-            *q = q.min(seconds);
-            if k + 1 == TRIAL {
+            if let Some(seconds) = seconds {
+                let q = &mut self.quickest[(k % 2) as usize];
+                *q = q.min(seconds);
+            }
+            if k + 1 == TRIAL && self.quickest.iter().all(|q| q.is_finite()) {
                 let c = usize::from(self.quickest[1] < self.quickest[0]);
                 self.chosen = self.candidates[c];
             }
@@ -243,5 +258,28 @@ mod tests {
                 pick.record(cost(form));
             }
         }
+    }
+
+    /// Calls that took neither candidate count but measure nothing: a
+    /// trial of such calls keeps the choice, and the next trial falls
+    /// where it would have.
+    #[test]
+    fn a_skipped_trial_keeps_the_choice() {
+        let mut pick = Pick::between([true, false], TRIAL);
+        for _ in 0..PERIOD {
+            let form = pick.next();
+            pick.record(if form { 1.0 } else { 0.5 });
+        }
+        assert!(!pick.chosen());
+        for _ in 0..PERIOD {
+            pick.skip();
+        }
+        assert!(!pick.chosen(), "no measure, no new choice");
+        for call in 0..2 * TRIAL {
+            assert_eq!(pick.trying(), call >= TRIAL, "call {call}");
+            let form = pick.next();
+            pick.record(if form { 0.5 } else { 1.0 });
+        }
+        assert!(pick.chosen(), "measured again, the other");
     }
 }
