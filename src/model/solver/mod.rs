@@ -223,7 +223,7 @@ const AHEAD_SHARE: f64 = 0.85;
 /// with theirs. Which is the quicker is the machine's: on the bench's
 /// disordered scene the gather ran 0.86-0.94 times as fast as the lanes at
 /// 1e3-1e4 particles on a 2-core Zen 4 (32 MB of last-level cache), and
-/// 1.00-1.27 times as fast on a 2-core Xeon with 2 MB of second-level
+/// 0.99-1.27 times as fast on a 2-core Xeon with 2 MB of second-level
 /// cache a core (docs/performance.md).
 fn g_pick() -> Pick<step::GForm> {
     Pick::between([step::GForm::Lanes, step::GForm::Gather], step::PICK_TRIAL)

@@ -48,8 +48,8 @@ use rayon::prelude::*;
 /// the gather 0.86-0.94 times as fast at 1e3-1e4 particles, 1.03-1.06 at
 /// 3e4, 1.05-1.08 at 5e4 (Monaghan's table there about 3, 9 and 15 MB;
 /// the composite kernel's tables are smaller). On a 2-core Xeon with 2 MB
-/// of second-level cache a core the gather won from 1e3 (1.00-1.27 times
-/// as fast at 1e3-3e4): the pick, not this bound, takes it there.
+/// of second-level cache a core the gather ran 0.99-1.27 times as fast
+/// at 1e3-3e4: the pick, not this bound, takes it there.
 pub const LANE_TABLE_MAX_BYTES: usize = 8 << 20;
 
 /// Particles per parallel task when building.
