@@ -46,6 +46,13 @@ pub struct PeerRun {
     /// they took.
     pub neighbour_rebuilds: u64,
     pub rebuild_s: f64,
+    /// Seconds of the timed steps in each pass: the kernel pass, the
+    /// density sums, the force pass (the rest of the wall time is the
+    /// rebuilds, the kick-drift, the rebuild rule's check and the time
+    /// step).
+    pub kernel_s: f64,
+    pub sums_s: f64,
+    pub forces_s: f64,
 }
 
 /// PySPH's example, in shearsph's terms: the quintic spline (shearsph's
@@ -325,5 +332,8 @@ fn run_matched(
         linf_rel_err: r.last.linf_rel_err,
         neighbour_rebuilds: r.neighbour_rebuilds,
         rebuild_s: r.rebuild_s,
+        kernel_s: r.pass_s[0],
+        sums_s: r.pass_s[1],
+        forces_s: r.pass_s[2],
     })
 }
