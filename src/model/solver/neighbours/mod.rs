@@ -448,21 +448,25 @@ impl NeighbourList {
         // Every neighbour of i: the particles of the cells within one cell
         // of i's, through every image, as the keys its list is sorted by:
         // returns (o, m, together), o own entries and m mirrored ones.
-        // Two forms, the same entries. On a lattice the distance tests
-        // come in a pattern that repeats from particle to particle, which
-        // branch prediction follows: each candidate is tested, each image
-        // in turn, and the kept ones' keys ([`list_key`]) are all in
+        // On a strip wider than 2.5 cutoffs only a candidate's nearest
+        // image is tried (`nearest_only`): the others are more than half
+        // the width away, beyond the cutoff. Two forms, the same entries.
+        // On a lattice the distance tests come in a pattern that repeats
+        // from particle to particle, which branch prediction follows:
+        // each candidate is tested (each image in turn on a narrow strip),
+        // and the kept ones' keys ([`list_key`]) are all in
         // `scratch.keys[..o + m]`, own first (`together`). In a disordered
         // fluid (`self.branch_free`) the tests go either way, and a
         // mispredicted branch costs more than the work it skips: there,
-        // on a strip wider than 2.5 cutoffs, only a candidate's nearest
-        // image is tried (the others are more than half the width away),
-        // every candidate's r^2 computed in lanes, and each written and
-        // kept (counted) only if it is within the cutoff, with no branch
-        // on its distance: own entries' keys as two fields, r^2 and
-        // [`tie`], in `scratch.own` (the first o), mirrored ones' in
-        // `scratch.mirrored` (the first m), for [`entry::ranks`].
-        let branch_free = self.branch_free && width > 2.5 * cutoff;
+        // on a wide strip, every candidate's r^2 is computed in lanes,
+        // and each written and kept (counted) only if it is within the
+        // cutoff, with no branch on its distance: own entries' keys as two
+        // fields, r^2 and [`tie`], in `scratch.own` (the first o),
+        // mirrored ones' in `scratch.mirrored` (the first m), for
+        // [`entry::ranks`].
+        let nearest_only = width > 2.5 * cutoff;
+        let branch_free = self.branch_free && nearest_only;
+        let half = 0.5 * width;
         let isa = Isa::detect();
         let visit = |i: usize, scratch: &mut Scratch| -> (usize, usize, bool) {
             let (xi, yi) = (x[i], y[i]);
@@ -486,6 +490,25 @@ impl NeighbourList {
                                 continue;
                             }
                             let dx0 = xi - x[j as usize];
+                            if nearest_only {
+                                // As [`nearest_images`] picks it.
+                                let shift: i8 = if dx0 > half {
+                                    -1
+                                } else if dx0 < -half {
+                                    1
+                                } else {
+                                    0
+                                };
+                                if shift == 0 && j as usize == i {
+                                    continue;
+                                }
+                                let dx = dx0 + f64::from(shift) * width;
+                                let r2 = dx * dx + dy2;
+                                if r2 <= cutoff2 {
+                                    found.push(list_key(i, j, shift, r2));
+                                }
+                                continue;
+                            }
                             for shift in -1i8..=1 {
                                 if shift == 0 && j as usize == i {
                                     continue;

@@ -73,8 +73,8 @@ mod lists {
     /// image and its slot's source, and nothing else: a lane not listed
     /// points at the zero place; every window lies inside the arrays. Each
     /// own pair's two lanes ([`NeighbourList::lanes_of_pairs`]) are the
-    /// two listed lanes whose source it is, and every listed lane is one
-    /// pair's.
+    /// two listed lanes whose source it is, the first in window order
+    /// first, and every listed lane is one pair's.
     fn check_windows(list: &NeighbourList, n: usize) {
         let mut listed = Vec::new();
         for i in 0..n {
@@ -108,6 +108,10 @@ mod lists {
         }
         let lanes = list.lanes_of_pairs();
         assert_eq!(lanes.len(), 2 * list.own_pairs());
+        assert!(
+            lanes.chunks_exact(2).all(|p| p[0] < p[1]),
+            "each pair's first lane in window order comes first"
+        );
         let mut from_pairs: Vec<(usize, u32)> = lanes
             .iter()
             .enumerate()

@@ -146,16 +146,26 @@ impl NeighbourList {
         // Per task of BUILD_CHUNK particles, their windows in one vector
         // and each one's count: two allocations a task, not one a particle
         // (on several threads, allocations per particle contend for the
-        // allocator's lock).
+        // allocator's lock), each with room for as many windows as the
+        // last build's lists of those particles had, and a little more: a
+        // list that keeps its windows grows no vector.
         type Task = (Vec<u32>, Vec<Window>, Vec<[u32; LANES]>);
         type Keys = (Vec<u64>, Vec<u64>);
+        let last = &self.win_start;
+        let room = |particles: &std::ops::Range<usize>| {
+            let had = match (last.get(particles.start), last.get(particles.end)) {
+                (Some(&a), Some(&b)) if last.len() == n + 1 => (b - a) as usize,
+                _ => 0,
+            };
+            had + had / 8 + LANES
+        };
         let per: Vec<Task> = (0..n.div_ceil(BUILD_CHUNK))
             .into_par_iter()
             .map_init(Keys::default, |(slots, sorted), task| {
                 let particles = task * BUILD_CHUNK..((task + 1) * BUILD_CHUNK).min(n);
                 let mut counts = Vec::with_capacity(particles.len());
-                let mut out: Vec<Window> = Vec::new();
-                let mut sources: Vec<[u32; LANES]> = Vec::new();
+                let mut out: Vec<Window> = Vec::with_capacity(room(&particles));
+                let mut sources: Vec<[u32; LANES]> = Vec::with_capacity(room(&particles));
                 for i in particles {
                     let base = i * stride;
                     let c = count[i] as usize;
@@ -216,14 +226,26 @@ impl NeighbourList {
             self.win_start
                 .push(u32::try_from(total).expect("windows fit in u32"));
         }
-        self.windows.clear();
-        self.windows.reserve(total);
-        self.win_sources.clear();
-        self.win_sources.reserve(total);
-        for (_, w, src) in per {
-            self.windows.extend_from_slice(&w);
-            self.win_sources.extend_from_slice(&src);
+        // The tasks' windows joined, each task's copied by a thread of its
+        // own into its place (resized, not cleared: only windows beyond
+        // the last build's count are written twice).
+        self.windows.resize(total, Window::new(0, 0, [1; LANES]));
+        self.win_sources.resize(total, [zero; LANES]);
+        let mut places = Vec::with_capacity(per.len());
+        let (mut windows, mut sources) = (&mut self.windows[..], &mut self.win_sources[..]);
+        for (_, w, _) in &per {
+            let (here, rest) = std::mem::take(&mut windows).split_at_mut(w.len());
+            let (here_src, rest_src) = std::mem::take(&mut sources).split_at_mut(w.len());
+            places.push((here, here_src));
+            (windows, sources) = (rest, rest_src);
         }
+        places
+            .into_par_iter()
+            .zip(per.par_iter())
+            .for_each(|((w, src), (_, from, from_src))| {
+                w.copy_from_slice(from);
+                src.copy_from_slice(from_src);
+            });
     }
 
     /// Fill [`Self::lanes_of_pairs`] from the windows' sources: every own
