@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use super::isa::Isa;
 use super::state::State;
 use super::CHUNK;
-use crate::solver::neighbours::{Displacements, LANES};
+use crate::solver::neighbours::Displacements;
 
 /// First half of the leapfrog: v += dt/2 a, x += dt v, and the prediction
 /// v + dt/2 a of the end-of-step velocity for the forces. Fills `motion`
@@ -94,6 +94,8 @@ fn kick_drift_task<const REFERENCE: bool>(
         let (v_pred_x, v_pred_y) = (&mut v_pred_x[r.clone()], &mut v_pred_y[r.clone()]);
         let (ax, ay) = (&ax[r.clone()], &ay[r.clone()]);
         let (x0, y0, u_ref) = (&x0[r.clone()], &y0[r.clone()], &u_ref[r]);
+        let mut d = Displacements::EMPTY;
+        let mut max_abs_y = 0.0f64;
         for k in 0..block {
             vx[k] += half * ax[k];
             vy[k] += half * ay[k];
@@ -101,86 +103,20 @@ fn kick_drift_task<const REFERENCE: bool>(
             y[k] += dt * vy[k];
             v_pred_x[k] = vx[k] + half * ax[k];
             v_pred_y[k] = vy[k] + half * ay[k];
-        }
-        // The box and the largest |y| in LANES running bounds, joined at
-        // the end: min and max are exact, so in any order the same
-        // bounds (NaN ignored by both, as one running bound ignores it),
-        // and the loop runs in vectors, not one particle after another.
-        let mut lanes = Bounds::EMPTY;
-        let (x, y, (x0, y0, u_ref)) = (&x[..], &y[..], (x0, y0, u_ref));
-        let ys = y.chunks_exact(LANES).zip(y0.chunks_exact(LANES));
-        for ((x, x0), (u, (y, y0))) in x
-            .chunks_exact(LANES)
-            .zip(x0.chunks_exact(LANES))
-            .zip(u_ref.chunks_exact(LANES).zip(ys))
-        {
-            lanes.add::<REFERENCE>(since, (x, y), (x0, y0), u);
-        }
-        let whole = block - block % LANES;
-        lanes.add::<REFERENCE>(
-            since,
-            (&x[whole..], &y[whole..]),
-            (&x0[whole..], &y0[whole..]),
-            &u_ref[whole..],
-        );
-        *m = lanes.joined();
-    }
-}
-
-/// A block's displacement box and largest |y| as LANES running bounds
-/// ([`kick_drift_task`]).
-struct Bounds {
-    lo: ([f64; LANES], [f64; LANES]),
-    hi: ([f64; LANES], [f64; LANES]),
-    top: [f64; LANES],
-}
-
-impl Bounds {
-    const EMPTY: Bounds = Bounds {
-        lo: ([f64::INFINITY; LANES], [f64::INFINITY; LANES]),
-        hi: ([f64::NEG_INFINITY; LANES], [f64::NEG_INFINITY; LANES]),
-        top: [0.0; LANES],
-    };
-
-    /// Up to LANES particles, particle l in lane l: their displacements
-    /// from (x0, y0), less u_ref `since` with `REFERENCE`, and |y|.
-    #[inline(always)]
-    fn add<const REFERENCE: bool>(
-        &mut self,
-        since: f64,
-        (x, y): (&[f64], &[f64]),
-        (x0, y0): (&[f64], &[f64]),
-        u_ref: &[f64],
-    ) {
-        let m = x.len().min(LANES);
-        let (y, x0, y0, u_ref) = (&y[..m], &x0[..m], &y0[..m], &u_ref[..m]);
-        for l in 0..m {
-            let dx = x[l] - x0[l];
-            let dx = if REFERENCE { dx - u_ref[l] * since } else { dx };
-            let dy = y[l] - y0[l];
-            (self.lo.0[l], self.hi.0[l]) = (self.lo.0[l].min(dx), self.hi.0[l].max(dx));
-            (self.lo.1[l], self.hi.1[l]) = (self.lo.1[l].min(dy), self.hi.1[l].max(dy));
+            let dx = x[k] - x0[k];
+            d.add(
+                if REFERENCE { dx - u_ref[k] * since } else { dx },
+                y[k] - y0[k],
+            );
             // NaN compares false: make it count as out of the channel.
-            let ya = y[l].abs();
-            self.top[l] = if ya.is_nan() {
+            let ya = y[k].abs();
+            max_abs_y = if ya.is_nan() {
                 f64::INFINITY
             } else {
-                self.top[l].max(ya)
+                max_abs_y.max(ya)
             };
         }
-    }
-
-    /// The lanes joined: the box and the largest |y|.
-    fn joined(&self) -> (Displacements, f64) {
-        let d = (0..LANES).fold(Displacements::EMPTY, |d, l| {
-            d.union(Displacements {
-                dx_min: self.lo.0[l],
-                dx_max: self.hi.0[l],
-                dy_min: self.lo.1[l],
-                dy_max: self.hi.1[l],
-            })
-        });
-        (d, self.top.iter().fold(0.0f64, |m, &t| m.max(t)))
+        *m = (d, max_abs_y);
     }
 }
 
