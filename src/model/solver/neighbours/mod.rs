@@ -206,17 +206,25 @@ fn nearest_images(
     let half = 0.5 * width;
     for ((((r2, e), &x), &y), &j) in r2s.iter_mut().zip(found).zip(xs).zip(ys).zip(js) {
         let dx0 = xi - x;
-        let shift: i8 = if dx0 > half {
-            -1
-        } else if dx0 < -half {
-            1
-        } else {
-            0
-        };
+        let shift = nearest_shift(dx0, half);
         let dx = dx0 + f64::from(shift) * width;
         let dy = yi - y;
         *r2 = dx * dx + dy * dy;
         *e = Entry::pack(j as usize, shift);
+    }
+}
+
+/// The image shift (-1, 0 or +1 width) that brings x_i - x_j = `dx0`
+/// nearest, `half` half the strip's width: on a strip wider than twice
+/// the cutoff no other image can be within it.
+#[inline(always)]
+fn nearest_shift(dx0: f64, half: f64) -> i8 {
+    if dx0 > half {
+        -1
+    } else if dx0 < -half {
+        1
+    } else {
+        0
     }
 }
 
@@ -490,33 +498,23 @@ impl NeighbourList {
                                 continue;
                             }
                             let dx0 = xi - x[j as usize];
+                            // Each image tried, or on a wide strip the
+                            // nearest alone.
+                            let mut test = |shift: i8| {
+                                if shift == 0 && j as usize == i {
+                                    return;
+                                }
+                                let dx = dx0 + f64::from(shift) * width;
+                                let r2 = dx * dx + dy2;
+                                if r2 <= cutoff2 {
+                                    found.push(list_key(i, j, shift, r2));
+                                }
+                            };
                             if nearest_only {
-                                // As [`nearest_images`] picks it.
-                                let shift: i8 = if dx0 > half {
-                                    -1
-                                } else if dx0 < -half {
-                                    1
-                                } else {
-                                    0
-                                };
-                                if shift == 0 && j as usize == i {
-                                    continue;
-                                }
-                                let dx = dx0 + f64::from(shift) * width;
-                                let r2 = dx * dx + dy2;
-                                if r2 <= cutoff2 {
-                                    found.push(list_key(i, j, shift, r2));
-                                }
-                                continue;
-                            }
-                            for shift in -1i8..=1 {
-                                if shift == 0 && j as usize == i {
-                                    continue;
-                                }
-                                let dx = dx0 + f64::from(shift) * width;
-                                let r2 = dx * dx + dy2;
-                                if r2 <= cutoff2 {
-                                    found.push(list_key(i, j, shift, r2));
+                                test(nearest_shift(dx0, half));
+                            } else {
+                                for shift in -1i8..=1 {
+                                    test(shift);
                                 }
                             }
                         }
