@@ -5,9 +5,10 @@
 //! is answered `repeats` times and the median wall time kept; beside it the
 //! runs the answer made, their solver steps, the process's CPU seconds
 //! (user and system, the operating system's account) and their share of
-//! the wall time on every core (how full the cores were), and whether every
-//! repeat gave the same answer, bit for bit (it must: the queue's order
-//! changes no run).
+//! the wall time on every core (how full the cores were), how the runs
+//! split between the perfect lattice's and the jittered seeds', and whether
+//! every repeat gave the same answer, bit for bit (it must: the queue's
+//! order changes no run).
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -34,6 +35,12 @@ pub struct EmpiricalBench {
     /// Of the first repeat: runs made and their solver steps.
     pub runs: usize,
     pub steps: u64,
+    /// Of those, the perfect lattice's runs and steps (the rest are the
+    /// jittered seeds'), and the perfect lattice's share of the runs' wall
+    /// seconds summed (each run's own; the runs share the cores).
+    pub perfect_runs: usize,
+    pub perfect_steps: u64,
+    pub perfect_share: f64,
     /// CPU seconds of each repeat (None: not measured on this system),
     /// and the median's share of the median wall time on every core.
     pub cpu_s: Vec<Option<f64>>,
@@ -111,6 +118,9 @@ pub fn empirical(repeats: usize, mut progress: impl FnMut(&str)) -> Result<Vec<E
             .iter()
             .flat_map(|t| t.perfect.iter().chain(&t.seeds))
             .collect();
+        let perfect: Vec<_> = a.trials.iter().flat_map(|t| &t.perfect).collect();
+        let run_s =
+            |runs: &[&crate::empirical::StartRun]| runs.iter().map(|r| r.wall_s).sum::<f64>();
         let cores = rayon::current_num_threads();
         let median = |v: &[f64]| {
             let mut v = v.to_vec();
@@ -127,6 +137,9 @@ pub fn empirical(repeats: usize, mut progress: impl FnMut(&str)) -> Result<Vec<E
             wall_s: walls,
             runs: runs.len(),
             steps: runs.iter().map(|r| r.steps).sum(),
+            perfect_runs: perfect.len(),
+            perfect_steps: perfect.iter().map(|r| r.steps).sum(),
+            perfect_share: run_s(&perfect) / run_s(&runs),
             cpu_s: cpus,
             cpu_s_median: cpu.as_ref().map(|c| median(c)),
             cores,
@@ -144,13 +157,13 @@ pub fn empirical(repeats: usize, mut progress: impl FnMut(&str)) -> Result<Vec<E
 pub fn empirical_table(rows: &[EmpiricalBench]) -> String {
     let mut s = String::from(
         "empirical answer (c0 --empirical, every rule beside it), median of the repeats\n\
-         kernel      N     Re   wall s (min-max)      runs    steps      cpu s  core use  c0_min_ok/U  probes  identical\n",
+         kernel      N     Re   wall s (min-max)      runs    steps  perfect: runs    steps  run-s      cpu s  core use  c0_min_ok/U  probes  identical\n",
     );
     for r in rows {
         let min = r.wall_s.iter().copied().fold(f64::INFINITY, f64::min);
         let max = r.wall_s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         s.push_str(&format!(
-            "{:<10} {:>2} {:>6} {:>7.1} ({:.1}-{:.1}) {:>9} {:>8} {:>10.1} {:>9.2} {:>12} {:>7} {:>10}\n",
+            "{:<10} {:>2} {:>6} {:>7.1} ({:.1}-{:.1}) {:>9} {:>8} {:>14} {:>8} {:>6.2} {:>10.1} {:>9.2} {:>12} {:>7} {:>10}\n",
             r.kernel,
             r.n_layers,
             r.re,
@@ -159,6 +172,9 @@ pub fn empirical_table(rows: &[EmpiricalBench]) -> String {
             max,
             r.runs,
             r.steps,
+            r.perfect_runs,
+            r.perfect_steps,
+            r.perfect_share,
             r.cpu_s_median.unwrap_or(f64::NAN),
             r.core_use.unwrap_or(f64::NAN),
             r.c0_min_ok_over_u
@@ -168,7 +184,8 @@ pub fn empirical_table(rows: &[EmpiricalBench]) -> String {
         ));
     }
     s.push_str(
-        "cpu s: the process's user and system seconds, the median repeat's; core use: cpu s / (wall x cores)\n",
+        "perfect: the perfect lattice's runs, their steps and their share of the runs' wall seconds summed (the rest are the\n\
+         jittered seeds'); cpu s: the process's user and system seconds, the median repeat's; core use: cpu s / (wall x cores)\n",
     );
     s
 }
