@@ -19,6 +19,7 @@ use crate::config::{C0Spec, Scene};
 use crate::empirical::{answer, resolve_empirical, Extras, Search};
 use crate::format::fmt_value;
 use crate::problem::c0::table;
+use crate::problem::cost::viscous_dt_warning;
 use crate::solver::Class;
 
 /// c0 by every rule for a scene, and the time step each implies.
@@ -91,6 +92,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     }
     let scene = args.scene.load()?;
     let t = table(&scene).map_err(|e| args.scene.label(e))?;
+    warn_viscous_dt(&t);
     let ordered = if args.stability {
         Some(crate::stability::ordered_at(&scene, &t)?)
     } else {
@@ -124,6 +126,13 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     println!(
         "time steps with |v|max = U and |a|max = p; steps to t_end = {:.6}",
         t.t_end
+    );
+    println!(
+        "time-step factors: cfl = {}, viscous_dt = {}; the kernel's viscous term is stable on the \
+         perfect lattice up to viscous_dt = {:.4} (docs/timestep.md)",
+        fmt_value(t.cfl),
+        fmt_value(t.viscous_dt),
+        t.viscous_dt_stable
     );
     println!(
         "{:<24} {:>12} {:>10} {:>12} {:>8} {:>12} {:>12} {:>10}",
@@ -284,7 +293,7 @@ pub(crate) fn check_search_top(
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Everything but c0 must be valid before the first run.
-    table(&scene).map_err(|e| args.scene.label(e))?;
+    warn_viscous_dt(&table(&scene).map_err(|e| args.scene.label(e))?);
     let search = Search {
         amplitude: args.amplitude,
         seeds: args.seeds,
@@ -575,4 +584,13 @@ fn flow_of(scene: &Scene) -> (f64, f64, f64) {
     let info = scene.kernel_info().expect("checked by the answer");
     let ch = crate::problem::channel::Channel::resolve(scene, info).expect("checked by the answer");
     (ch.flow.b, ch.flow.nu, ch.flow.p)
+}
+
+/// On stderr, the warning when the table's viscous factor is above the
+/// largest the kernel's viscous term is stable at.
+fn warn_viscous_dt(t: &crate::problem::c0::C0Table) {
+    let what = format!("kernel {} ({})", t.kernel, t.discretisation);
+    if let Some(w) = viscous_dt_warning(t.viscous_dt, t.viscous_dt_stable, &what) {
+        eprintln!("{w}");
+    }
 }

@@ -131,7 +131,9 @@ pub struct SceneArgs {
     /// Time-step factor of the CFL limit, dt <= CFL h / (c0 + |v|max) (0.5).
     #[arg(long)]
     pub cfl: Option<f64>,
-    /// Time-step factor of the viscous limit, dt <= F h^2 / nu (0.125).
+    /// Time-step factor of the viscous limit, dt <= F h^2 / nu (default
+    /// 0.125, or 0.85 of the largest factor the kernel's viscous term is
+    /// stable at where that is less: docs/timestep.md).
     #[arg(long)]
     pub viscous_dt: Option<f64>,
     /// Neighbour-list skin in units of h.

@@ -20,6 +20,7 @@ use super::SceneArgs;
 use crate::charts::run::stage_charts;
 use crate::output::{self, StagedSet, Summary};
 use crate::particles::series::{self, ParticleOutput, Snapshot};
+use crate::problem::cost::viscous_dt_warning;
 use crate::problem::Problem;
 use crate::run::run_problem;
 use crate::solver::{Class, Observer, Outcome, RunResult, Sample};
@@ -76,6 +77,15 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
     let problem = Problem::resolve(&scene, scene.kernel_info()?)
         .and_then(|p| p.check_duration().map(|()| p))
         .map_err(|e| args.scene.label(e))?;
+    let what = format!(
+        "kernel {} ({})",
+        problem.kernel.name,
+        problem.discretisation.label()
+    );
+    let stable = problem.viscous_stable_factor();
+    if let Some(w) = viscous_dt_warning(problem.dt_factors.viscous, stable, &what) {
+        eprintln!("{w}");
+    }
     output::prepare_dir(&args.out, args.force)?;
     let set = StagedSet::begin(&args.out)?;
 

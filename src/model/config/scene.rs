@@ -171,14 +171,14 @@ pub struct Scene {
     #[serde(default = "default_eps_margin")]
     pub eps_margin: f64,
     /// The time step's factors: dt <= cfl h / (c0 + |v|max) and
-    /// viscous_dt h^2 / nu (0.5 and 0.125 by default, docs/timestep.md).
+    /// viscous_dt h^2 / nu (docs/timestep.md). cfl is 0.5 by default;
+    /// viscous_dt by default (None) 0.125, or less where the kernel's
+    /// viscous term would not be stable at 0.125
+    /// ([`crate::problem::cost::default_viscous_dt`]).
     #[serde(default = "default_cfl", skip_serializing_if = "is_default_cfl")]
     pub cfl: f64,
-    #[serde(
-        default = "default_viscous_dt",
-        skip_serializing_if = "is_default_viscous_dt"
-    )]
-    pub viscous_dt: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_dt: Option<f64>,
     /// Neighbour-list skin in units of h (performance only).
     #[serde(default = "default_skin")]
     pub skin: f64,
@@ -203,7 +203,9 @@ fn default_alpha() -> f64 {
 /// viscous_dt h^2 / nu: CFL 0.5, measured stable with the window's
 /// statistics unchanged from 0.25 on every shipped kernel and
 /// discretisation tried (docs/timestep.md); viscous 0.125 (Morris, Fox and
-/// Zhu 1997: 0.25 is unstable for Monaghan's kernel at Re = 1).
+/// Zhu 1997), at most [`crate::problem::cost::VISCOUS_SHARE`] of the
+/// factor at which the kernel's viscous term is stable
+/// ([`crate::problem::cost::default_viscous_dt`]).
 pub const DEFAULT_CFL: f64 = 0.5;
 pub const DEFAULT_VISCOUS_DT: f64 = 0.125;
 
@@ -212,12 +214,6 @@ fn default_cfl() -> f64 {
 }
 fn is_default_cfl(v: &f64) -> bool {
     *v == default_cfl()
-}
-fn default_viscous_dt() -> f64 {
-    DEFAULT_VISCOUS_DT
-}
-fn is_default_viscous_dt(v: &f64) -> bool {
-    *v == default_viscous_dt()
 }
 fn default_horizon_span() -> f64 {
     64.0

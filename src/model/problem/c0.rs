@@ -299,6 +299,13 @@ pub struct C0Table {
     /// The scene's own c0 spec, and the error it gives if it cannot resolve.
     pub scene_c0: String,
     pub scene_c0_error: Option<String>,
+    /// The time step's factors in use (the scene's `cfl` and
+    /// `viscous_dt`), and the largest viscous factor at which the
+    /// kernel's viscous term is stable on the perfect lattice
+    /// ([`super::viscous_stable_factor`], docs/timestep.md).
+    pub cfl: f64,
+    pub viscous_dt: f64,
+    pub viscous_dt_stable: f64,
     pub rows: Vec<C0Row>,
 }
 
@@ -359,6 +366,13 @@ pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
         t_end,
         scene_c0: scene.c0.to_string(),
         scene_c0_error,
+        cfl: scene.cfl,
+        viscous_dt: channel.dt_factors.viscous,
+        viscous_dt_stable: super::viscous_stable_factor(
+            info,
+            &channel.lattice,
+            scene.viscous_normalisation,
+        ),
         rows,
     })
 }

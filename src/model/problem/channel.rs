@@ -7,6 +7,7 @@ use crate::config::{invalid, positive, Scene, SceneError};
 use crate::format::fmt_value;
 use crate::kernel::{DiscretisationInfo, KernelInfo};
 
+use super::cost::DtFactors;
 use super::lattice::{LatticeGeometry, CLOSED_TOL};
 
 /// The lattice and the flow of a scene, for one kernel.
@@ -19,6 +20,9 @@ pub struct Channel {
     /// Walls at y = ±B, U, nu and p.
     pub flow: Poiseuille,
     pub re: f64,
+    /// The scene's time-step factors (`cfl`, `viscous_dt`): what the
+    /// estimates of the step, the steps and the run time take.
+    pub dt_factors: DtFactors,
 }
 
 /// The strip of a jittered start, unless the scene sets `columns`: at
@@ -153,6 +157,16 @@ impl Channel {
             discretisation,
             re: flow.re(),
             flow,
+            dt_factors: DtFactors {
+                cfl: scene.cfl,
+                viscous: scene.viscous_dt.unwrap_or_else(|| {
+                    super::cost::default_viscous_dt(super::viscous_stable_factor(
+                        info,
+                        &lattice,
+                        scene.viscous_normalisation,
+                    ))
+                }),
+            },
         })
     }
 

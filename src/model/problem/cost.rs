@@ -62,22 +62,8 @@ pub struct DtFactors {
     pub viscous: f64,
 }
 
-impl Default for DtFactors {
-    /// The scene's defaults ([`crate::config::scene::DEFAULT_CFL`]).
-    fn default() -> Self {
-        DtFactors {
-            cfl: crate::config::scene::DEFAULT_CFL,
-            viscous: crate::config::scene::DEFAULT_VISCOUS_DT,
-        }
-    }
-}
-
 impl TimeStep {
-    /// The limits with the default factors ([`DtFactors::default`]).
-    pub fn new(h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
-        TimeStep::with(DtFactors::default(), h, c0, nu, v_max, a_max)
-    }
-
+    /// The limits with the factors `f`.
     pub fn with(f: DtFactors, h: f64, c0: f64, nu: f64, v_max: f64, a_max: f64) -> TimeStep {
         let cfl = f.cfl * h / (c0 + v_max);
         let viscous = f.viscous * h * h / nu;
@@ -109,8 +95,43 @@ impl TimeStep {
     }
 }
 
-/// The starting time step of a channel at sound speed `c0`, U and p taken
-/// as the speed and acceleration scales, and the steps it takes to `t_end`.
+/// The share of the factor at which a kernel's viscous term is stable on
+/// the perfect lattice ([`super::viscous_stable_factor`]) that the default
+/// viscous factor takes at most. Runs at Re = 1 went unstable from 1.01-1.25
+/// times that factor, and jittered runs kept their window's statistics to
+/// 0.92 of it (docs/timestep.md); 0.125, the default elsewhere, is at most
+/// 0.83 of it on every shipped kernel and discretisation but the composite
+/// kernel at h = 1.3-1.7 d, whose factor is 0.07.
+pub const VISCOUS_SHARE: f64 = 0.85;
+
+/// The default viscous factor for a kernel and lattice whose viscous term
+/// is stable up to the factor `stable`: 0.125
+/// ([`crate::config::scene::DEFAULT_VISCOUS_DT`]), or [`VISCOUS_SHARE`] of
+/// `stable` where that is less.
+pub fn default_viscous_dt(stable: f64) -> f64 {
+    crate::config::scene::DEFAULT_VISCOUS_DT.min(VISCOUS_SHARE * stable)
+}
+
+/// A warning when the viscous factor in use, `factor`, is above `stable`,
+/// the largest at which the kernel's viscous term is stable on the perfect
+/// lattice ([`super::viscous_stable_factor`]); None otherwise. `what`
+/// names the kernel and discretisation.
+pub fn viscous_dt_warning(factor: f64, stable: f64, what: &str) -> Option<String> {
+    (factor > stable).then(|| {
+        format!(
+            "warning: viscous_dt = {} is above {:.4}, the largest factor at which {what}'s viscous \
+             term is stable on the perfect lattice (dt times its fastest damping rate at most 1; \
+             docs/timestep.md): expect the lattice to go unstable, or lower viscous_dt \
+             (--viscous-dt)",
+            fmt_value(factor),
+            stable
+        )
+    })
+}
+
+/// The starting time step of a channel at sound speed `c0` with the
+/// scene's factors ([`Channel::dt_factors`]), U and p taken as the speed
+/// and acceleration scales, and the steps it takes to `t_end`.
 #[derive(Debug, Clone, Copy)]
 pub struct Estimate {
     pub time_step: TimeStep,
@@ -120,7 +141,14 @@ pub struct Estimate {
 impl Estimate {
     pub fn new(channel: &Channel, c0: f64, t_end: f64) -> Estimate {
         let flow = &channel.flow;
-        let time_step = TimeStep::new(channel.lattice.h, c0, flow.nu, flow.u, flow.p);
+        let time_step = TimeStep::with(
+            channel.dt_factors,
+            channel.lattice.h,
+            c0,
+            flow.nu,
+            flow.u,
+            flow.p,
+        );
         Estimate {
             time_step,
             steps: (t_end / time_step.dt).ceil(),

@@ -65,6 +65,30 @@ impl LatticeGeometry {
         self.dy * self.d
     }
 
+    /// Every site of the perfect, unbounded lattice within kernel K's
+    /// closed support of a particle at the origin, itself included: (x, y,
+    /// q^2), row by row from the lowest, each by x.
+    fn support_sites<K: Kernel>(&self) -> Vec<(f64, f64, f64)> {
+        let (d, h, dy) = (self.d, self.h, self.dy);
+        let reach = K::SUPPORT2_CLOSED.sqrt() * h;
+        let rows = (reach / dy).ceil() as i64;
+        let cols = (reach / d).ceil() as i64 + 1;
+        let inv_h2 = 1.0 / (h * h);
+        let mut sites = Vec::new();
+        for j in -rows..=rows {
+            let shift = self.kind.offset(j) * d;
+            let y = j as f64 * dy;
+            for i in -cols..=cols {
+                let x = i as f64 * d + shift;
+                let q2 = (x * x + y * y) * inv_h2;
+                if q2 <= K::SUPPORT2_CLOSED {
+                    sites.push((x, y, q2));
+                }
+            }
+        }
+        sites
+    }
+
     /// The viscous operator's lattice sum lambda = L_yy / sigma^2 for kernel
     /// K: what the solver's Laplacian, 2 (nu / sigma) sum_j (A / sigma)
     /// (u_i - u_j) F(r_ij) with F = W'(r) / r, gives for u = y^2 / 2 at a
@@ -76,32 +100,93 @@ impl LatticeGeometry {
     /// quadratic velocity is the steady profile (7), so the interior of a
     /// steady run has the viscosity lambda nu (`ViscousNormalisation`).
     pub fn viscous_lattice_sum<K: Kernel>(&self) -> f64 {
-        let (d, h, dy) = (self.d, self.h, self.dy);
-        let reach = K::SUPPORT2_CLOSED.sqrt() * h;
-        let rows = (reach / dy).ceil() as i64;
-        let cols = (reach / d).ceil() as i64 + 1;
-        let inv_h2 = 1.0 / (h * h);
+        let inv_h2 = 1.0 / (self.h * self.h);
         let (mut w_sum, mut lyy) = (0.0, 0.0);
-        for j in -rows..=rows {
-            let shift = self.kind.offset(j) * d;
-            let y = j as f64 * dy;
-            for i in -cols..=cols {
-                let x = i as f64 * d + shift;
-                let q2 = (x * x + y * y) * inv_h2;
-                if q2 > K::SUPPORT2_CLOSED {
-                    continue;
-                }
-                w_sum += K::w(q2) * inv_h2;
-                if j != 0 {
-                    // The own row has y = 0 (and W' / r of the self site
-                    // may be infinite: (22b) is not 0 at q = 0).
-                    lyy -= y * y * K::w_dw_over_q_lanes(q2).1 * inv_h2 * inv_h2;
-                }
+        for (_, y, q2) in self.support_sites::<K>() {
+            w_sum += K::w(q2) * inv_h2;
+            if y != 0.0 {
+                // The own row has y = 0 (and W' / r of the self site
+                // may be infinite: (22b) is not 0 at q = 0).
+                lyy -= y * y * K::w_dw_over_q_lanes(q2).1 * inv_h2 * inv_h2;
             }
         }
         let area = self.area();
         let sigma = area * w_sum;
         area * lyy / (sigma * sigma)
+    }
+
+    /// The largest factor F of the viscous limit dt <= F h^2 / nu at which
+    /// the solver's viscous term is stable on the perfect, unbounded
+    /// lattice, for kernel K: F = 1 / (h^2 Lambda / nu), with Lambda the
+    /// largest rate at which the term, 2 (nu / sigma) sum_j (A / sigma)
+    /// (u_i - u_j) F(r_ij), damps a velocity mode u_j = cos(k . r_j) over
+    /// the wave vectors k: Lambda(k) = 2 (nu / sigma^2) A sum_j (-F(r_j))
+    /// (1 - cos(k . r_j)) over the other sites within the closed support
+    /// (sigma and A as in [`Self::viscous_lattice_sum`]). The solver's
+    /// step is stable while dt Lambda <= 1: runs from rest at Re = 1 went
+    /// unstable between 1.01 and 1.25 times this factor on every kernel
+    /// and discretisation measured (docs/timestep.md). The maximum over k
+    /// is taken on a grid over the reciprocal cell and refined from the
+    /// best point by a pattern search, to a relative 1e-12 of the rate.
+    pub fn viscous_stable_factor<K: Kernel>(&self) -> f64 {
+        let (d, dy) = (self.d, self.dy);
+        let inv_h2 = 1.0 / (self.h * self.h);
+        let mut w_sum = 0.0;
+        // (x, y, -F h^4) of every other site in the support.
+        let mut sites = Vec::new();
+        for (x, y, q2) in self.support_sites::<K>() {
+            w_sum += K::w(q2) * inv_h2;
+            if x != 0.0 || y != 0.0 {
+                sites.push((x, y, -K::w_dw_over_q_lanes(q2).1));
+            }
+        }
+        // The reciprocal basis of the lattice's a1 = (d, 0), a2 = (shift
+        // of layer 1, dy): k = s b1 + t b2, (s, t) over [0, 1)^2.
+        let c = self.kind.offset(1) * d;
+        let tau = std::f64::consts::TAU;
+        let (b1, b2) = ((tau / d, -tau * c / (d * dy)), (0.0, tau / dy));
+        let rate = |s: f64, t: f64| {
+            let (kx, ky) = (s * b1.0 + t * b2.0, s * b1.1 + t * b2.1);
+            sites
+                .iter()
+                .map(|&(x, y, f)| f * (1.0 - (kx * x + ky * y).cos()))
+                .sum::<f64>()
+        };
+        const GRID: u32 = 48;
+        let mut best = (0.0, 0.0, f64::NEG_INFINITY);
+        for a in 0..GRID {
+            for b in 0..GRID {
+                let (s, t) = (
+                    f64::from(a) / f64::from(GRID),
+                    f64::from(b) / f64::from(GRID),
+                );
+                let r = rate(s, t);
+                if r > best.2 {
+                    best = (s, t, r);
+                }
+            }
+        }
+        let mut step = 1.0 / f64::from(GRID);
+        while step > 1e-9 {
+            let (s, t, r) = best;
+            let around = [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)]
+                .map(|(ds, dt)| (s + ds, t + dt, rate(s + ds, t + dt)));
+            match around.into_iter().find(|p| p.2 > r * (1.0 + 1e-12)) {
+                Some(p) => best = p,
+                None => step /= 2.0,
+            }
+        }
+        let area = self.area();
+        let sigma = area * w_sum;
+        // h^2 Lambda / nu, with F = (-F h^4) / h^4.
+        let rate_h2_over_nu = 2.0 * area * best.2 * inv_h2 / (sigma * sigma);
+        if rate_h2_over_nu > 0.0 {
+            1.0 / rate_h2_over_nu
+        } else {
+            // A term that damps no mode (a kernel whose gradient vanishes
+            // at every neighbour) sets no limit.
+            f64::INFINITY
+        }
     }
 
     pub fn fluid_layers(&self) -> u32 {

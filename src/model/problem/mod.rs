@@ -159,6 +159,7 @@ impl Problem {
             discretisation,
             flow,
             re,
+            dt_factors,
         } = channel;
         let d = lattice.d;
         let mass = lattice.area() * scene.rho0;
@@ -230,10 +231,7 @@ impl Problem {
             t_end,
             output_interval,
             horizon,
-            dt_factors: cost::DtFactors {
-                cfl: scene.cfl,
-                viscous: scene.viscous_dt,
-            },
+            dt_factors,
             initial: scene.initial,
             v_limit,
         })
@@ -308,6 +306,12 @@ impl Problem {
         ))
     }
 
+    /// The largest viscous factor at which this problem's viscous term is
+    /// stable on its perfect lattice ([`viscous_stable_factor`]).
+    pub fn viscous_stable_factor(&self) -> f64 {
+        viscous_stable_factor(self.kernel, &self.lattice, self.viscous_normalisation)
+    }
+
     /// The problem's channel: its lattice and flow.
     pub fn channel(&self) -> Channel {
         Channel {
@@ -315,6 +319,7 @@ impl Problem {
             discretisation: self.discretisation,
             flow: self.flow,
             re: self.re,
+            dt_factors: self.dt_factors,
         }
     }
 
@@ -408,6 +413,55 @@ fn resolve_horizon(scene: &Scene, channel: &Channel) -> Result<Horizon, SceneErr
     }
 }
 
+/// The largest factor of the viscous limit, dt <= F h^2 / nu, at which the
+/// viscous term of kernel `info` on the perfect `lattice` is stable
+/// ([`LatticeGeometry::viscous_stable_factor`]), for the term as the scene
+/// scales it: `normalisation` `lattice` divides the term by its lattice sum
+/// lambda, and so multiplies the factor by lambda.
+pub fn viscous_stable_factor(
+    info: &'static KernelInfo,
+    lattice: &LatticeGeometry,
+    normalisation: ViscousNormalisation,
+) -> f64 {
+    struct Factor<'a>(&'a LatticeGeometry);
+    impl KernelVisitor for Factor<'_> {
+        type Output = f64;
+        fn visit<K: Kernel>(self) -> f64 {
+            self.0.viscous_stable_factor::<K>()
+        }
+    }
+    // A grid over the wave vectors for each kernel and lattice: kept, as
+    // every run of a search or sweep resolves its scene.
+    type Key = (&'static str, crate::kernel::Lattice, u64, u64);
+    static KNOWN: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
+    let key = (
+        info.name,
+        lattice.kind,
+        lattice.d.to_bits(),
+        lattice.h.to_bits(),
+    );
+    let known = |k: &Key| {
+        KNOWN
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .iter()
+            .find(|(q, _)| q == k)
+            .map(|&(_, f)| f)
+    };
+    let f = known(&key).unwrap_or_else(|| {
+        let f = kernels::with_kernel(info.name, Factor(lattice)).unwrap_or(f64::NAN);
+        KNOWN
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push((key, f));
+        f
+    });
+    match normalisation {
+        ViscousNormalisation::None => f,
+        ViscousNormalisation::Lattice => f * viscous_lattice_sum(info, lattice),
+    }
+}
+
 /// [`Lattice::viscous_lattice_sum`] for the kernel `info` names.
 fn viscous_lattice_sum(info: &'static KernelInfo, lattice: &LatticeGeometry) -> f64 {
     struct Sum<'a>(&'a LatticeGeometry);
@@ -438,14 +492,16 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
     }
     crate::config::check_alpha(scene.alpha)?;
     for (field, v, hi) in [
-        ("cfl", scene.cfl, 2.0),
+        ("cfl", Some(scene.cfl), 2.0),
         ("viscous_dt", scene.viscous_dt, 1.0),
     ] {
+        let Some(v) = v else { continue };
         if !(v > 0.0 && v <= hi) {
             return Err(invalid(
                 field,
                 format!(
-                    "{} must be in (0, {hi}]: a time-step factor (0.25 and 0.125 by default)",
+                    "{} must be in (0, {hi}]: a time-step factor (cfl 0.5 by default, viscous_dt \
+                     0.125 or the kernel's stable share, docs/timestep.md)",
                     fmt_value(v)
                 ),
             ));
