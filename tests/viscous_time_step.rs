@@ -174,3 +174,14 @@ fn the_default_factor_stays_below_the_stable_one() {
         default.problem.dt_factors.viscous
     );
 }
+
+/// The default factor: 0.125, or 0.85 of a smaller stable factor; 0.125
+/// where the stable factor is unknown (NaN) or there is none (infinite).
+#[test]
+fn the_default_factor_by_the_stable_one() {
+    use shearsph::problem::cost::default_viscous_dt;
+    assert_eq!(default_viscous_dt(0.2), 0.125);
+    assert_eq!(default_viscous_dt(0.1), 0.85 * 0.1);
+    assert_eq!(default_viscous_dt(f64::NAN), 0.125);
+    assert_eq!(default_viscous_dt(f64::INFINITY), 0.125);
+}

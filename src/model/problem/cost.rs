@@ -107,7 +107,7 @@ pub const VISCOUS_SHARE: f64 = 0.85;
 /// The default viscous factor for a kernel and lattice whose viscous term
 /// is stable up to the factor `stable`: 0.125
 /// ([`crate::config::scene::DEFAULT_VISCOUS_DT`]), or [`VISCOUS_SHARE`] of
-/// `stable` where that is less.
+/// `stable` where that is less (0.125 where `stable` is NaN, unknown).
 pub fn default_viscous_dt(stable: f64) -> f64 {
     crate::config::scene::DEFAULT_VISCOUS_DT.min(VISCOUS_SHARE * stable)
 }

@@ -417,7 +417,10 @@ fn resolve_horizon(scene: &Scene, channel: &Channel) -> Result<Horizon, SceneErr
 /// viscous term of kernel `info` on the perfect `lattice` is stable
 /// ([`LatticeGeometry::viscous_stable_factor`]), for the term as the scene
 /// scales it: `normalisation` `lattice` divides the term by its lattice sum
-/// lambda, and so multiplies the factor by lambda.
+/// lambda, and so multiplies the factor by lambda (NaN, unknown, for a
+/// lambda that is not a positive number, which the problem refuses). The
+/// default viscous factor is 0.125 where the factor is unknown
+/// ([`cost::default_viscous_dt`]).
 pub fn viscous_stable_factor(
     info: &'static KernelInfo,
     lattice: &LatticeGeometry,
@@ -458,7 +461,16 @@ pub fn viscous_stable_factor(
     });
     match normalisation {
         ViscousNormalisation::None => f,
-        ViscousNormalisation::Lattice => f * viscous_lattice_sum(info, lattice),
+        ViscousNormalisation::Lattice => {
+            // A sum that is not a positive number is refused by
+            // `Problem::new`; until then the factor is unknown.
+            let lambda = viscous_lattice_sum(info, lattice);
+            if lambda > 0.0 && lambda.is_normal() {
+                f * lambda
+            } else {
+                f64::NAN
+            }
+        }
     }
 }
 
