@@ -107,7 +107,7 @@ fn the_stable_factor_is_one_over_the_fastest_damping_rate() {
 
 /// Below the factor the start-up runs as at 0.125 (the same class, the
 /// window's mean-flow error to 1e-3 of itself); 15 % above it the lattice
-/// goes unstable (docs/timestep.md measured the onset at 1.01-1.25 times
+/// goes unstable (docs/timestep.md measured the onset between 1 and 1.16 times
 /// the factor).
 #[test]
 fn runs_below_the_stable_factor_keep_their_numbers_and_above_it_go_unstable() {
