@@ -97,8 +97,8 @@ impl TimeStep {
 
 /// The share of the factor at which a kernel's viscous term is stable on
 /// the perfect lattice ([`super::viscous_stable_factor`]) that the default
-/// viscous factor takes at most. Runs from rest at Re = 1 kept their numbers
-/// up to that factor and went unstable by 1.16 times it, and jittered runs
+/// viscous factor takes at most. Runs from rest at Re = 1 went unstable at
+/// no factor below it and by 1.16 times it, and jittered runs
 /// kept their window's statistics up to 0.94 of it (docs/timestep.md).
 /// 0.125, the default elsewhere, is at most 0.83 of it on every shipped
 /// kernel and discretisation but the composite kernel at h = 1.3-1.7 d,

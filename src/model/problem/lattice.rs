@@ -123,9 +123,9 @@ impl LatticeGeometry {
     /// the wave vectors k: Lambda(k) = 2 (nu / sigma^2) A sum_j (-F(r_j))
     /// (1 - cos(k . r_j)) over the other sites within the closed support
     /// (sigma and A as in [`Self::viscous_lattice_sum`]). The solver's
-    /// step is stable while dt Lambda <= 1: runs from rest at Re = 1 kept
-    /// their numbers up to this factor and went unstable by 1.16 times it
-    /// on every kernel and discretisation measured (docs/timestep.md). The maximum over k
+    /// step is stable while dt Lambda <= 1: runs from rest at Re = 1 went
+    /// unstable at no factor below this one and by 1.16 times it on every
+    /// kernel and discretisation measured (docs/timestep.md). The maximum over k
     /// is taken on a grid over the reciprocal cell and refined from the
     /// best point by a pattern search, to a relative 1e-12 of the rate.
     pub fn viscous_stable_factor<K: Kernel>(&self) -> f64 {
