@@ -10,6 +10,8 @@
 # argument, only the tables, from the JSON already in OUT.
 #
 # usage: scripts/stability-check.sh [OUT=target/stability-check] [tables]
+#   VISCOUS_DT=F sets the measuring runs' viscous factor (default: each
+#   kernel's own)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/stability-check}
@@ -30,7 +32,8 @@ if [ "${2:-}" != tables ]; then
 for k in $KERNELS; do
   for lat in triangular square; do
     "$B" stability --kernel "$k" --lattice "$lat" --h-over-d 1 --n 10 --re 1 --alpha 0.1 \
-      --c0-over-u 5,10,20 --measure --measure-t-end 800 --json | strip "$OUT/check-$k-$lat.json"
+      --c0-over-u 5,10,20 --measure --measure-t-end 800 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} \
+      --json | strip "$OUT/check-$k-$lat.json"
   done
 done
 for k in $KERNELS; do

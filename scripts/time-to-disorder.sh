@@ -7,6 +7,7 @@
 # markdown table; writes each run's summary under OUT.
 #
 # usage: scripts/time-to-disorder.sh [OUT=target/time-to-disorder] [T_END=2500]
+#   VISCOUS_DT=F sets every run's viscous factor (default: each kernel's own)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/time-to-disorder}
@@ -18,6 +19,7 @@ run() { # kernel lattice h re c0 a
   local dir="$OUT/$1-$2-${3//\//_}-re$4-c0$5-a$6"
   local jitter=()
   [ "$6" != 0 ] && jitter=(--jitter "$6" --jitter-seed 1)
+  [ -n "${VISCOUS_DT:-}" ] && jitter+=(--viscous-dt "$VISCOUS_DT")
   "$B" run --kernel "$1" --lattice "$2" --h-over-d "$3" --n 10 --re "$4" --c0 "$5" \
     "${jitter[@]}" --columns 18 --t-end "$T_END" --output-interval 2 --eps-limit 1 \
     --no-particles --quiet --force --out "$dir" > /dev/null || true

@@ -391,7 +391,7 @@ fn meaningless_results_are_refused_before_any_run() {
         &[
             "invalid `t_end` (flag --t-end)",
             "shorter than one time step",
-            "t_end >= 0.145",
+            "t_end >= 0.184",
         ],
     );
     assert!(!run.exists());

@@ -168,6 +168,7 @@ fn a_main_era_results_jsonl_resumes() {
         c0 = ["derived", "rule10"]
         [scene]
         t_end = 2.0
+        viscous_dt = 0.125
         "#,
         "test",
     )

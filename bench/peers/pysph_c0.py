@@ -43,8 +43,9 @@ src/model/solver/step/):
   evaluation per step); walls do not move.
 
 Differences from shearsph's solver, all that are known:
-- time step: fixed, dt = min(0.5 h / (c0 + U), 0.125 h^2 / nu); shearsph's
-  CFL uses the current largest speed (0.5 h / (c0 + |v|max)) and a force
+- time step: fixed, dt = min(0.5 h / (c0 + U), 0.125 h^2 / nu); shearsph
+  runs with PySPH's viscous factor, `--viscous-dt 0.125` (its default, 0.85
+  of the kernel's stable factor, is 0.156 on this lattice); its CFL uses the current largest speed (0.5 h / (c0 + |v|max)) and a force
   limit 0.25 sqrt(h / |a|max), so at Re = 10 its dt varies by a few per cent
   (at Re = 1 both are the viscous 0.0125 throughout);
 - frames: sampled at the first step at or after each multiple of B / (4 U)

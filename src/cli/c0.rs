@@ -127,13 +127,24 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
         "time steps with |v|max = U and |a|max = p; steps to t_end = {:.6}",
         t.t_end
     );
-    println!(
-        "time-step factors: cfl = {}, viscous_dt = {}; the kernel's viscous term is stable on the \
-         perfect lattice up to viscous_dt = {:.4} (docs/timestep.md)",
-        fmt_value(t.cfl),
-        fmt_value(t.viscous_dt),
-        t.viscous_dt_stable
-    );
+    if t.viscous_dt == crate::problem::cost::default_viscous_dt(t.viscous_dt_stable) {
+        println!(
+            "time-step factors: cfl = {}, viscous_dt = {:.4} (the default: {} of {:.4}, the largest \
+             at which the kernel's viscous term is stable on the perfect lattice; docs/timestep.md)",
+            fmt_value(t.cfl),
+            t.viscous_dt,
+            crate::problem::cost::VISCOUS_SHARE,
+            t.viscous_dt_stable
+        );
+    } else {
+        println!(
+            "time-step factors: cfl = {}, viscous_dt = {}; the kernel's viscous term is stable on \
+             the perfect lattice up to viscous_dt = {:.4} (docs/timestep.md)",
+            fmt_value(t.cfl),
+            fmt_value(t.viscous_dt),
+            t.viscous_dt_stable
+        );
+    }
     println!(
         "{:<24} {:>12} {:>10} {:>12} {:>8} {:>12} {:>12} {:>10}",
         "rule", "c0", "c0/U", "dt", "limit", "dt_cfl", "dt_viscous", "steps"

@@ -132,8 +132,8 @@ pub struct SceneArgs {
     #[arg(long)]
     pub cfl: Option<f64>,
     /// Time-step factor of the viscous limit, dt <= F h^2 / nu (default
-    /// 0.125, or 0.85 of the largest factor the kernel's viscous term is
-    /// stable at where that is less: docs/timestep.md).
+    /// 0.85 of the largest factor the kernel's viscous term is stable at on
+    /// its lattice, which `c0` prints: docs/timestep.md).
     #[arg(long)]
     pub viscous_dt: Option<f64>,
     /// Neighbour-list skin in units of h.

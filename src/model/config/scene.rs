@@ -172,8 +172,8 @@ pub struct Scene {
     pub eps_margin: f64,
     /// The time step's factors: dt <= cfl h / (c0 + |v|max) and
     /// viscous_dt h^2 / nu (docs/timestep.md). cfl is 0.5 by default;
-    /// viscous_dt by default (None) 0.125, or less where the kernel's
-    /// viscous term would not be stable at 0.125
+    /// viscous_dt by default (None) 0.85 of the largest factor at which
+    /// the kernel's viscous term is stable on its lattice
     /// ([`crate::problem::cost::default_viscous_dt`]).
     #[serde(default = "default_cfl", skip_serializing_if = "is_default_cfl")]
     pub cfl: f64,
@@ -199,15 +199,15 @@ fn one() -> f64 {
 fn default_alpha() -> f64 {
     DEFAULT_ALPHA
 }
-/// The time step's default factors, dt <= cfl h / (c0 + |v|max) and
-/// viscous_dt h^2 / nu: CFL 0.5, measured stable with the window's
-/// statistics unchanged from 0.25 on every shipped kernel and
-/// discretisation tried (docs/timestep.md); viscous 0.125 (Morris, Fox and
-/// Zhu 1997), at most [`crate::problem::cost::VISCOUS_SHARE`] of the
-/// factor at which the kernel's viscous term is stable
+/// The time step's default CFL factor, dt <= cfl h / (c0 + |v|max): 0.5,
+/// measured stable with the window's statistics unchanged from 0.25 on
+/// every shipped kernel and discretisation tried (docs/timestep.md). The
+/// default viscous factor, dt <= viscous_dt h^2 / nu, is the kernel's own
 /// ([`crate::problem::cost::default_viscous_dt`]).
 pub const DEFAULT_CFL: f64 = 0.5;
-pub const DEFAULT_VISCOUS_DT: f64 = 0.125;
+/// The viscous factor where the kernel's stable factor is unknown (Morris,
+/// Fox and Zhu 1997).
+pub const FALLBACK_VISCOUS_DT: f64 = 0.125;
 
 fn default_cfl() -> f64 {
     DEFAULT_CFL

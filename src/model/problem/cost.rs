@@ -27,7 +27,7 @@ pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 pub enum DtLimit {
     /// 0.5 h / (c0 + |v|max) (the factor: the scene's `cfl`).
     Cfl,
-    /// 0.125 h^2 / nu.
+    /// viscous_dt h^2 / nu (the factor: the scene's `viscous_dt`).
     Viscous,
     /// 0.25 sqrt(h / |a|max).
     Force,
@@ -97,20 +97,23 @@ impl TimeStep {
 
 /// The share of the factor at which a kernel's viscous term is stable on
 /// the perfect lattice ([`super::viscous_stable_factor`]) that the default
-/// viscous factor takes at most. Runs from rest at Re = 1 went unstable at
-/// no factor below it and by 1.16 times it, and jittered runs
-/// kept their window's statistics up to 0.94 of it (docs/timestep.md).
-/// 0.125, the default elsewhere, is at most 0.83 of it on every shipped
-/// kernel and discretisation but the composite kernel at h = 1.3-1.7 d,
-/// whose factor is 0.07.
+/// viscous factor takes. Runs from rest at Re = 1 went unstable at no
+/// factor below it and by 1.16 times it, and jittered runs kept their
+/// window's statistics up to 0.94 of it (docs/timestep.md).
 pub const VISCOUS_SHARE: f64 = 0.85;
 
 /// The default viscous factor for a kernel and lattice whose viscous term
-/// is stable up to the factor `stable`: 0.125
-/// ([`crate::config::scene::DEFAULT_VISCOUS_DT`]), or [`VISCOUS_SHARE`] of
-/// `stable` where that is less (0.125 where `stable` is NaN, unknown).
+/// is stable up to the factor `stable`: [`VISCOUS_SHARE`] of it (0.159 for
+/// Monaghan's kernel on the triangular lattice at h = d, 0.22 for
+/// Morris's, 0.06 for the composite kernel at h = 1.3 d), or 0.125
+/// ([`crate::config::scene::FALLBACK_VISCOUS_DT`]) where `stable` is not
+/// a positive finite number (unknown).
 pub fn default_viscous_dt(stable: f64) -> f64 {
-    crate::config::scene::DEFAULT_VISCOUS_DT.min(VISCOUS_SHARE * stable)
+    if stable > 0.0 && stable.is_finite() {
+        VISCOUS_SHARE * stable
+    } else {
+        crate::config::scene::FALLBACK_VISCOUS_DT
+    }
 }
 
 /// A warning when the viscous factor in use, `factor`, is above `stable`,

@@ -419,7 +419,7 @@ fn resolve_horizon(scene: &Scene, channel: &Channel) -> Result<Horizon, SceneErr
 /// scales it: `normalisation` `lattice` divides the term by its lattice sum
 /// lambda, and so multiplies the factor by lambda (NaN, unknown, for a
 /// lambda that is not a positive number, which the problem refuses). The
-/// default viscous factor is 0.125 where the factor is unknown
+/// default viscous factor is 0.85 of it, or 0.125 where it is unknown
 /// ([`cost::default_viscous_dt`]).
 pub fn viscous_stable_factor(
     info: &'static KernelInfo,
@@ -513,7 +513,7 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
                 field,
                 format!(
                     "{} must be in (0, {hi}]: a time-step factor (cfl 0.5 by default, viscous_dt \
-                     0.125 or the kernel's stable share, docs/timestep.md)",
+                     0.85 of the kernel's stable factor, docs/timestep.md)",
                     fmt_value(v)
                 ),
             ));
