@@ -409,6 +409,24 @@ fn print_answer(a: &crate::empirical::Answer, search: &Search) {
         ),
         _ => println!("no c0 from {} U to {} U is ok in the disordered state: no recommendation", search.lo_over_u, search.hi_over_u),
     }
+    // The recommended c0 is run on every start: say so when its own
+    // disordered run is not ok (the margin is for the compaction; above the
+    // smallest ok c0 the mean flow's error may leave the bound).
+    if let Some(p) = a
+        .recommended
+        .and_then(|rec| a.trials.iter().find(|t| t.c0 == rec))
+        .and_then(|t| t.pooled.as_ref())
+        .filter(|p| p.class != Class::Ok)
+    {
+        println!(
+            "  the recommended c0's own run is {} in the disordered state (eps_stat {:.3e}, the mean \
+             flow {} U off): the ok band ends below it; a smaller --margin, or the smallest ok c0, \
+             stays inside it",
+            p.class,
+            p.eps_stat,
+            f(p.linf_stat)
+        );
+    }
     if let Some(d) = &a.diagnosis {
         println!("why: {}", d.binds);
         for w in &d.would {
