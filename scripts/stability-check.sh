@@ -10,8 +10,8 @@
 # argument, only the tables, from the JSON already in OUT.
 #
 # usage: scripts/stability-check.sh [OUT=target/stability-check] [tables]
-#   VISCOUS_DT=F sets the measuring runs' viscous factor (default: each
-#   kernel's own)
+#   VISCOUS_DT=F sets every case's viscous factor, the linearised step's
+#   and the measuring runs' (default: each kernel's own)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/stability-check}
@@ -40,7 +40,8 @@ for k in $KERNELS; do
   for lat in triangular square; do
     for re in 1 10; do
       "$B" stability --kernel "$k" --lattice "$lat" --h-over-d 1 --n 10 --re "$re" --alpha 0.1 \
-        --c0-over-u 3,5,7,10,14,20,30,40 --json | strip "$OUT/map-$k-$lat-re$re.json"
+        --c0-over-u 3,5,7,10,14,20,30,40 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} \
+        --json | strip "$OUT/map-$k-$lat-re$re.json"
     done
   done
 done
