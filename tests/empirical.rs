@@ -179,6 +179,23 @@ fn the_empirical_answer_has_its_schema() {
     );
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["recommended"].is_number() || v["recommended"].is_null());
+    // The recommendation is a c0 whose own disordered run was ok, inside
+    // the band above the smallest ok c0.
+    if let Some(rec) = v["recommended"].as_f64() {
+        let band = &v["band"];
+        assert_eq!(band["lo"], v["c0_min_ok"], "{band}");
+        assert!(band["lo"].as_f64().unwrap() <= rec && rec <= band["hi_ok"].as_f64().unwrap());
+        let t = v["trials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["c0"].as_f64() == Some(rec))
+            .expect("the recommended c0 was run");
+        assert_eq!(t["pooled"]["class"], "ok", "{t}");
+        assert!(t["perfect"].is_object(), "run on the perfect lattice too: {t}");
+    } else {
+        assert!(v["band"].is_null());
+    }
     for key in [
         "t_startup",
         "shear_time",

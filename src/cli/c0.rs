@@ -393,39 +393,79 @@ fn print_answer(a: &crate::empirical::Answer, search: &Search) {
         h.stationary,
         h.failed
     );
-    match (a.c0_min_ok, a.recommended) {
-        (Some(min), Some(rec)) => println!(
-            "recommended c0 = {rec:.6} ({} U): the smallest c0 ok in the disordered state, {min:.6} \
-             ({} U{}), times {}{}",
-            f(rec / a.u),
+    let below = a
+        .disordered
+        .compressed
+        .map(|(c, k)| format!("; {k} at {} U", f(c / a.u)))
+        .unwrap_or_else(|| format!("; ok down to the lowest c0, {} U", search.lo_over_u));
+    let min_said = |min: f64| {
+        format!(
+            "{min:.6} ({} U{})",
             f(min / a.u),
-            a.c0_rel_uncertainty
-                .map_or(String::new(), |u| format!(" +- {} % from the seeds", f(100.0 * u))),
+            a.c0_rel_uncertainty.map_or(String::new(), |u| format!(
+                " +- {} % from the seeds",
+                f(100.0 * u)
+            ))
+        )
+    };
+    match (a.c0_min_ok, a.recommended, &a.band) {
+        (Some(min), Some(rec), Some(band)) if band.above.is_none() => println!(
+            "recommended c0 = {rec:.6} ({} U): the smallest c0 ok in the disordered state, {}, \
+             times {}, ok too{below}",
+            f(rec / a.u),
+            min_said(min),
             search.margin,
-            a.disordered
-                .compressed
-                .map(|(c, k)| format!("; {k} at {} U", f(c / a.u)))
-                .unwrap_or_else(|| format!("; ok down to the lowest c0, {} U", search.lo_over_u))
         ),
-        _ => println!("no c0 from {} U to {} U is ok in the disordered state: no recommendation", search.lo_over_u, search.hi_over_u),
+        (Some(min), Some(rec), Some(band)) if band.hi_ok == min => {
+            let (c, k) = band.above.expect("the band's end, searched");
+            println!(
+                "recommended c0 = {rec:.6} ({} U): the smallest c0 ok in the disordered state, {}, \
+                 and the only one found: the band ok ends within the bisection's {} % above it \
+                 ({k} at {} U), so no margin {} fits{below}",
+                f(rec / a.u),
+                min_said(min),
+                f(100.0 * search.rel_tol),
+                f(c / a.u),
+                search.margin,
+            );
+        }
+        (Some(min), Some(rec), Some(band)) => {
+            let (c, k) = band.above.expect("the band's end, searched");
+            println!(
+                "recommended c0 = {rec:.6} ({} U): inside the band ok in the disordered state, \
+                 from its smallest c0, {}, to {} U ({k} at {} U, bisection to {} %), a factor \
+                 {} from its lower edge and {} from its upper: the band is narrower than the \
+                 margin {}{below}",
+                f(rec / a.u),
+                min_said(min),
+                f(band.hi_ok / a.u),
+                f(c / a.u),
+                f(100.0 * search.rel_tol),
+                f(rec / min),
+                f(band.hi_ok / rec),
+                search.margin,
+            );
+        }
+        _ => println!(
+            "no c0 from {} U to {} U is ok in the disordered state: no recommendation",
+            search.lo_over_u, search.hi_over_u
+        ),
     }
-    // The recommended c0 is run on every start: say so when its own
-    // disordered run is not ok (the margin is for the compaction; above the
-    // smallest ok c0 the mean flow's error may leave the bound).
-    if let Some(p) = a
-        .recommended
-        .and_then(|rec| a.trials.iter().find(|t| t.c0 == rec))
-        .and_then(|t| t.pooled.as_ref())
-        .filter(|p| p.class != Class::Ok)
-    {
-        println!(
-            "  the recommended c0's own run is {} in the disordered state (eps_stat {:.3e}, the mean \
-             flow {} U off): the ok band ends below it; a smaller --margin, or the smallest ok c0, \
-             stays inside it",
-            p.class,
-            p.eps_stat,
-            f(p.linf_stat)
-        );
+    if let Some(band) = &a.band {
+        let inside: Vec<String> = band
+            .not_ok
+            .iter()
+            .filter(|(c, _)| *c < band.hi_ok)
+            .map(|(c, k)| format!("{k} at {} U", f(c / a.u)))
+            .collect();
+        if !inside.is_empty() {
+            println!(
+                "  the classes alternate inside the band ({}): its statistics sit within the \
+                 seeds' noise of a bound (their spread is in the trials below), so its edges are \
+                 that uncertain; more --seeds narrow the noise",
+                inside.join(", ")
+            );
+        }
     }
     if let Some(d) = &a.diagnosis {
         println!("why: {}", d.binds);

@@ -27,7 +27,7 @@ use crate::solver::Class;
 pub use diagnose::Diagnosis;
 pub use law::DisorderedLaw;
 pub use queue::{Priority, RunQueue};
-pub use search::{Bracket, Regime};
+pub use search::{Bracket, OkBand, Regime};
 pub use trial::{Pooled, StartRun, Starts, Trial};
 
 /// How the answer is searched.
@@ -37,7 +37,8 @@ pub struct Search {
     pub amplitude: f64,
     /// Perturbed starts (seeds 1..=seeds), pooled.
     pub seeds: u32,
-    /// The recommended c0 is the smallest ok one times this.
+    /// The recommended c0 is the smallest ok one times this, when that is
+    /// ok too ([`OkBand::recommended`]).
     pub margin: f64,
     /// The bisection stops when its bracket is narrower than this ratio - 1.
     pub rel_tol: f64,
@@ -206,7 +207,7 @@ pub struct Answer {
     pub u: f64,
     pub search: Search,
     pub horizon: HorizonUsed,
-    /// The smallest c0 ok in the disordered regime, and times the margin.
+    /// The smallest c0 ok in the disordered regime.
     pub c0_min_ok: Option<f64>,
     /// The statistical uncertainty of that answer, relative: the standard
     /// error of the seeds' mean eps_stat - eps0+ at the answer's c0 (their
@@ -215,7 +216,13 @@ pub struct Answer {
     /// the compaction moves by its error. The bisection's own tolerance
     /// comes on top.
     pub c0_rel_uncertainty: Option<f64>,
+    /// The recommended c0: the smallest ok one times the margin when that
+    /// is ok too, else the trial found ok nearest the ok band's centre
+    /// ([`OkBand::recommended`]); None with no c0 ok.
     pub recommended: Option<f64>,
+    /// The ok band above the smallest ok c0, as far as the recommendation
+    /// searched it.
+    pub band: Option<OkBand>,
     pub disordered: Bracket,
     pub ordered: Bracket,
     pub law: Option<DisorderedLaw>,
@@ -300,7 +307,7 @@ pub fn answer(
         );
     }
     q.ask(&q.runs_of(&rule_c0s, Starts::Both), Priority::Background);
-    let (disordered, ordered, both, ladder) = queue::with_workers(&q, || -> Result<_> {
+    let (disordered, band, ordered, both, ladder) = queue::with_workers(&q, || -> Result<_> {
         // The two searches at once: the ordered one's single runs fill the
         // cores the disordered one's seeds leave.
         let (disordered, ordered) = std::thread::scope(|s| {
@@ -311,9 +318,25 @@ pub fn answer(
                     })
                 })
             });
-            let disordered = search::search(Regime::Disordered, dis_steps, &mut |c| {
-                q.trial(c, Starts::Seeds, Priority::Disordered)
-            });
+            let mut seeds = |c| q.trial(c, Starts::Seeds, Priority::Disordered);
+            // The search, then the ok band above its answer, as far as the
+            // recommendation needs it (while the ordered search goes on).
+            let disordered =
+                search::search(Regime::Disordered, dis_steps, &mut seeds).and_then(|b| {
+                    let band = b
+                        .c0_min_ok
+                        .map(|lo| {
+                            search::ok_band(
+                                Regime::Disordered,
+                                lo,
+                                search.margin,
+                                search.rel_tol,
+                                &mut seeds,
+                            )
+                        })
+                        .transpose()?;
+                    Ok((b, band))
+                });
             if disordered.is_err() {
                 // Nothing more is worth running: the ordered search ends.
                 q.close();
@@ -322,7 +345,7 @@ pub fn answer(
                 ordered.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
             (disordered, ordered)
         });
-        let disordered = disordered?;
+        let (disordered, band) = disordered?;
         let ordered = match ordered {
             Some(o) => o?,
             None => Bracket {
@@ -336,7 +359,7 @@ pub fn answer(
         // The recommended c0 (or, with none, where compression ends) on
         // every start (how long the order lasts there), the law's ladder
         // about the answer on the seeds, and the rules' runs still to make.
-        let recommended = disordered.c0_min_ok.map(|c| c * search.margin);
+        let recommended = band.as_ref().map(OkBand::recommended);
         let mut both = Vec::new();
         let mut ladder = Vec::new();
         if let Some(c) = recommended.or(disordered.not_compressed.map(|h| h.0)) {
@@ -352,14 +375,15 @@ pub fn answer(
         rest.extend(q.runs_of(&ladder, Starts::Seeds));
         rest.extend(q.runs_of(&rule_c0s, Starts::Both));
         q.wait(&rest, Priority::Ordered)?;
-        Ok((disordered, ordered, both, ladder))
+        Ok((disordered, band, ordered, both, ladder))
     })?;
     let c0_min_ok = disordered.c0_min_ok;
-    let recommended = c0_min_ok.map(|c| c * search.margin);
+    let recommended = band.as_ref().map(OkBand::recommended);
     // Every trial made, by c0 (a c0 asked twice is one trial).
     let mut all: Vec<f64> = disordered
         .probes
         .iter()
+        .chain(band.iter().flat_map(|b| &b.probes))
         .chain(&ordered.probes)
         .chain(&both)
         .chain(&ladder)
@@ -451,6 +475,7 @@ pub fn answer(
         c0_min_ok,
         c0_rel_uncertainty,
         recommended,
+        band,
         disordered,
         ordered,
         law,

@@ -236,6 +236,123 @@ pub fn search(
     })
 }
 
+/// The ok band above the smallest ok c0, as far as the recommendation
+/// needs it: ok at the smallest ok c0 `lo`, the band reaches at least
+/// `hi_ok`, and (when searched) ends below `above`.
+#[derive(Debug, Clone, Serialize)]
+pub struct OkBand {
+    /// The smallest ok c0 (the disordered search's answer).
+    pub lo: f64,
+    /// The largest c0 found ok above it.
+    pub hi_ok: f64,
+    /// The smallest c0 found not ok above `hi_ok`, and its class; None:
+    /// ok at `lo` x the margin, where the band was not searched further.
+    pub above: Option<(f64, Class)>,
+    /// The c0s found ok from `lo` to `hi_ok`, ascending.
+    pub ok: Vec<f64>,
+    /// The c0s probed and found not ok, ascending, with their classes:
+    /// any below `hi_ok` means the classes alternate inside the band (the
+    /// seeds' noise, where the statistics sit near a bound).
+    pub not_ok: Vec<(f64, Class)>,
+    /// The c0s probed, in order.
+    pub probes: Vec<f64>,
+}
+
+impl OkBand {
+    /// The recommended c0: `lo` x the margin when that is ok (`above`
+    /// None); otherwise the c0 found ok farthest (in log c0) from the
+    /// band's nearer edge, which is its geometric centre sqrt(lo hi_ok)
+    /// whenever the run there was ok, as it is in a band whose classes
+    /// do not alternate.
+    pub fn recommended(&self) -> f64 {
+        if self.above.is_none() {
+            return self.hi_ok;
+        }
+        let edge = |c: f64| (c / self.lo).ln().min((self.hi_ok / c).ln());
+        self.ok.iter().copied().fold(
+            self.lo,
+            |best, c| if edge(c) > edge(best) { c } else { best },
+        )
+    }
+}
+
+/// The ok band above `lo` (a c0 the disordered search found ok): `lo` x
+/// `margin` first; when that is not ok, a plain bisection on log c0
+/// between them to the relative tolerance for where the band ends (in c0
+/// the classes run ok, then inaccurate once the artificial viscosity
+/// alpha c0 h grows: a c0 not ok above `lo` is taken as above the band),
+/// and a probe at the band's geometric centre for the recommendation.
+pub fn ok_band(
+    regime: Regime,
+    lo: f64,
+    margin: f64,
+    rel_tol: f64,
+    trial: &mut dyn FnMut(f64) -> Result<Trial>,
+) -> Result<OkBand> {
+    let mut probes = Vec::new();
+    let mut ok = vec![lo];
+    let first = lo * margin;
+    let mut class_at = |c: f64, probes: &mut Vec<f64>| -> Result<Class> {
+        probes.push(c);
+        Ok(regime.class(&trial(c)?))
+    };
+    let k = if first == lo {
+        Class::Ok
+    } else {
+        class_at(first, &mut probes)?
+    };
+    if k == Class::Ok {
+        if first != lo {
+            ok.push(first);
+        }
+        return Ok(OkBand {
+            lo,
+            hi_ok: first,
+            above: None,
+            ok,
+            not_ok: Vec::new(),
+            probes,
+        });
+    }
+    let mut not_ok = vec![(first, k)];
+    let (mut l, mut h) = (lo, (first, k));
+    // At most 64 halvings: Search::check keeps the tolerance representable.
+    for _ in 0..64 {
+        if h.0 / l <= 1.0 + rel_tol {
+            break;
+        }
+        let mid = (l * h.0).sqrt();
+        let k = class_at(mid, &mut probes)?;
+        if k == Class::Ok {
+            l = mid;
+            ok.push(mid);
+        } else {
+            h = (mid, k);
+            not_ok.push(h);
+        }
+    }
+    // The band's centre, for the recommendation.
+    let centre = (lo * l).sqrt();
+    if centre > lo && centre < l && !probes.contains(&centre) {
+        match class_at(centre, &mut probes)? {
+            Class::Ok => {
+                ok.push(centre);
+                ok.sort_by(f64::total_cmp);
+            }
+            k => not_ok.push((centre, k)),
+        }
+    }
+    not_ok.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(OkBand {
+        lo,
+        hi_ok: l,
+        above: Some(h),
+        ok,
+        not_ok,
+        probes,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -266,6 +383,79 @@ mod tests {
             }),
             seeds: Vec::new(),
         }
+    }
+
+    /// With the ok band ending at `top`, from below the margin to above
+    /// it: the recommendation is the smallest ok c0 times the margin when
+    /// the band reaches it, else an ok trial inside the band at least a
+    /// quarter of its width (in log c0) from each edge; the band's end is
+    /// bracketed to the tolerance by trials, and a margin of 1 runs
+    /// nothing.
+    #[test]
+    fn the_recommendation_stays_inside_the_ok_band() {
+        let (lo, margin) = (20.0, 1.5);
+        for tol in [1e-3, 0.01, 0.1, 0.5] {
+            for k in 0..60 {
+                let top = lo * 1.01f64.powi(k);
+                let mut asked = Vec::new();
+                let b = ok_band(Regime::Disordered, lo, margin, tol, &mut |c| {
+                    asked.push(c);
+                    let mut t = trial_at(c, lo, 0.0);
+                    if c >= top {
+                        t.pooled.as_mut().unwrap().class = Class::Inaccurate;
+                    }
+                    Ok(t)
+                })
+                .unwrap();
+                assert_eq!(asked, b.probes);
+                let rec = b.recommended();
+                assert!(
+                    rec >= lo && rec < top.max(lo * 1.0000001),
+                    "{tol} {top}: {b:?}"
+                );
+                assert!(b.ok.iter().all(|&c| c < top || c == lo) && b.ok.contains(&rec));
+                match b.above {
+                    None => {
+                        assert!(top > lo * margin, "{tol} {top}: {b:?}");
+                        assert_eq!(rec, lo * margin);
+                    }
+                    Some((c, class)) => {
+                        assert_eq!(class, Class::Inaccurate);
+                        assert!(b.hi_ok < top || b.hi_ok == lo, "{tol} {top}: {b:?}");
+                        assert!(top <= c && c / b.hi_ok <= 1.0 + tol, "{tol} {top}: {b:?}");
+                        // The band's centre; no class alternates.
+                        assert!((rec / (lo * b.hi_ok).sqrt() - 1.0).abs() < 1e-12);
+                        assert!(b.not_ok.iter().all(|&(c, _)| c > b.hi_ok), "{b:?}");
+                    }
+                }
+            }
+        }
+        let b = ok_band(Regime::Disordered, lo, 1.0, 0.1, &mut |_| unreachable!()).unwrap();
+        assert_eq!((b.recommended(), b.probes.len()), (lo, 0));
+        // Classes that alternate (the seeds' noise): not ok at the centre
+        // only, the recommendation is still a c0 found ok, the one farthest
+        // from the nearer edge.
+        let top = lo * 1.3;
+        let band = |flip: f64| {
+            ok_band(Regime::Disordered, lo, margin, 0.1, &mut |c| {
+                let mut t = trial_at(c, lo, 0.0);
+                if c >= top || c == flip {
+                    t.pooled.as_mut().unwrap().class = Class::Inaccurate;
+                }
+                Ok(t)
+            })
+            .unwrap()
+        };
+        let plain = band(f64::NAN);
+        let centre = (lo * plain.hi_ok).sqrt();
+        assert_eq!(plain.recommended(), centre);
+        let b = band(centre);
+        let rec = b.recommended();
+        assert_eq!((b.hi_ok, b.probes.last()), (plain.hi_ok, Some(&centre)));
+        assert!(b.ok.contains(&rec) && rec > lo && rec < b.hi_ok, "{b:?}");
+        assert!(b.not_ok.iter().any(|&(c, _)| c == centre && c < b.hi_ok));
+        let edge = |c: f64| (c / lo).ln().min((b.hi_ok / c).ln());
+        assert!(b.ok.iter().all(|&c| edge(c) <= edge(rec)), "{b:?}");
     }
 
     /// Any c0 in the window [`closing`] gives closes the bracket: both
