@@ -49,7 +49,8 @@ pub struct C0Args {
     /// Perturbed starts: number of seeds, pooled (with --empirical).
     #[arg(long, default_value_t = Search::default().seeds)]
     pub seeds: u32,
-    /// Recommended c0 = smallest ok c0 times this (with --empirical).
+    /// Recommended c0 = smallest ok c0 times this, when that is ok too;
+    /// else the middle of the ok band (with --empirical).
     #[arg(long, default_value_t = Search::default().margin)]
     pub margin: f64,
     /// Bisection tolerance on c0, relative (with --empirical).
@@ -226,8 +227,8 @@ pub fn empirical_scene(
     };
     let line = format!(
         "c0 = {} = {c0:.6} ({:.4} U): the smallest c0 ok in the stationary, disordered state of {} \
-         seeds jittered by {} d is {:.6} ({} trials{}, runs to t = {:.4}..{:.4}), times the margin \
-         {}; now the run itself",
+         seeds jittered by {} d is {:.6} ({} trials{}, runs to t = {:.4}..{:.4}), {}; now the run \
+         itself",
         scene.c0,
         c0 / s.u,
         search.seeds,
@@ -240,7 +241,16 @@ pub fn empirical_scene(
             .unwrap_or_default(),
         a.horizon.t_min,
         a.horizon.t_max,
-        search.margin
+        match a.band.as_ref().and_then(|b| b.above.map(|above| (b, above))) {
+            None => format!("times the margin {}", search.margin),
+            Some((b, (c, k))) => format!(
+                "the recommendation {:.6} inside the ok band up to {:.6} ({k} at {c:.6}), which is \
+                 narrower than the margin {}",
+                a.recommended.unwrap_or(f64::NAN),
+                b.hi_ok,
+                search.margin
+            ),
+        }
     );
     if to_stdout {
         println!("{line}");
