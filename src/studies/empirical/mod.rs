@@ -216,9 +216,9 @@ pub struct Answer {
     /// the compaction moves by its error. The bisection's own tolerance
     /// comes on top.
     pub c0_rel_uncertainty: Option<f64>,
-    /// The recommended c0: the smallest ok one times the margin when that
-    /// is ok too, else the trial found ok nearest the ok band's centre
-    /// ([`OkBand::recommended`]); None with no c0 ok.
+    /// The recommended c0, always one whose disordered run was ok: the
+    /// smallest ok one times the margin when that is ok too, else the ok
+    /// band's centre ([`OkBand::recommended`]); None with no c0 ok.
     pub recommended: Option<f64>,
     /// The ok band above the smallest ok c0, as far as the recommendation
     /// searched it.
