@@ -192,7 +192,10 @@ fn the_empirical_answer_has_its_schema() {
             .find(|t| t["c0"].as_f64() == Some(rec))
             .expect("the recommended c0 was run");
         assert_eq!(t["pooled"]["class"], "ok", "{t}");
-        assert!(t["perfect"].is_object(), "run on the perfect lattice too: {t}");
+        assert!(
+            t["perfect"].is_object(),
+            "run on the perfect lattice too: {t}"
+        );
     } else {
         assert!(v["band"].is_null());
     }

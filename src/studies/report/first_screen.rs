@@ -159,11 +159,17 @@ fn answer_at(d: &ReportData, ki: usize, ri: usize) -> AnswerAtRe {
     if let Some(a) = perturbed.map(|e| &e.answer) {
         if let Some(t) = &a.time_to_disorder {
             s.push(format!(
-                "The order lasts: at {} U a {} d jitter left its lattice (dy_rms >= 0.1 d) at t = {}, the perfect lattice {} (B / U = {}).",
+                "The order lasts: at {} U a {} d jitter {}, the perfect lattice {} (B / U = {}).",
                 fmt_num(t.c0 / a.u),
                 t.amplitude,
-                t.seeds.map_or("never within the runs".to_string(), fmt_num),
-                t.perfect.map_or(format!("stayed ordered to t = {}", fmt_num(t.perfect_t)), |p| format!("from round-off at t = {}", fmt_num(p))),
+                t.seeds.map_or(
+                    "did not leave its lattice (dy_rms >= 0.1 d) within the runs".to_string(),
+                    |s| format!("left its lattice (dy_rms >= 0.1 d) at t = {}", fmt_num(s))
+                ),
+                t.perfect.map_or(
+                    format!("stayed ordered to t = {}", fmt_num(t.perfect_t)),
+                    |p| format!("from round-off at t = {}", fmt_num(p))
+                ),
                 fmt_num(a.horizon.shear_time)
             ));
         }
