@@ -267,26 +267,41 @@ pub fn write_shard(dir: &Path, shard: Option<Shard>) -> Result<()> {
 }
 
 /// Lock the sweep folder `dir` (created if missing) for this process: a
-/// second sweep into it refuses at once instead of duplicating rows or
-/// mixing files. The lock is the folder's own (flock on its descriptor), so
-/// no file is added; it ends when the returned handle drops or the process
-/// ends, however it ends.
+/// second sweep into it refuses instead of duplicating rows or mixing
+/// files. The lock is the folder's own (flock on its descriptor), so no file
+/// is added; it ends when the returned handle drops or the process ends,
+/// however it ends.
+///
+/// A lock found held is tried again for up to [`LOCK_GRACE`] before the
+/// refusal. A child process this one spawns shares its open descriptors
+/// from the fork to the exec, so a lock dropped in that moment is still
+/// held, by the child, for a few microseconds; a sweep that holds it
+/// keeps it for far longer than the grace.
 pub fn lock(dir: &Path) -> Result<std::fs::File> {
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating sweep folder {}", dir.display()))?;
     let f = std::fs::File::open(dir)
         .with_context(|| format!("opening sweep folder {}", dir.display()))?;
-    match f.try_lock() {
-        Ok(()) => Ok(f),
-        Err(std::fs::TryLockError::WouldBlock) => bail!(
-            "sweep folder {} is in use by another sweep (locked): wait for it to finish, or choose another --out",
-            dir.display()
-        ),
-        Err(std::fs::TryLockError::Error(e)) => {
-            Err(e).with_context(|| format!("locking sweep folder {}", dir.display()))
+    let start = std::time::Instant::now();
+    loop {
+        match f.try_lock() {
+            Ok(()) => return Ok(f),
+            Err(std::fs::TryLockError::WouldBlock) if start.elapsed() < LOCK_GRACE => {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            Err(std::fs::TryLockError::WouldBlock) => bail!(
+                "sweep folder {} is in use by another sweep (locked): wait for it to finish, or choose another --out",
+                dir.display()
+            ),
+            Err(std::fs::TryLockError::Error(e)) => {
+                return Err(e).with_context(|| format!("locking sweep folder {}", dir.display()));
+            }
         }
     }
 }
+
+/// How long [`lock`] tries a held lock again before it refuses.
+pub const LOCK_GRACE: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// Open a sweep folder. With a `spec`: start it there (an existing folder
 /// must hold the same sweep, whose finished rows are kept, unless `force`
