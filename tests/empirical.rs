@@ -52,15 +52,19 @@ fn the_answer_holds_for_twice_the_horizon_and_a_smaller_jitter() {
         ])
     };
     let search = Search::default();
-    let h = c0_min(&base(64.0), &search);
-    let h2 = c0_min(&base(128.0), &search);
-    let small = c0_min(
-        &base(64.0),
-        &Search {
-            amplitude: 0.01,
-            ..search
-        },
-    );
+    let small_jitter = Search {
+        amplitude: 0.01,
+        ..search
+    };
+    // The three answers at once: each search waits on its probes' runs in
+    // turn, and the others' runs fill the cores meanwhile (an answer does
+    // not depend on how many run beside it: the next test).
+    let (h, h2, small) = std::thread::scope(|s| {
+        let h2 = s.spawn(|| c0_min(&base(128.0), &search));
+        let small = s.spawn(|| c0_min(&base(64.0), &small_jitter));
+        let h = c0_min(&base(64.0), &search);
+        (h, h2.join().unwrap(), small.join().unwrap())
+    });
     for (what, c) in [("2H", h2), ("a 0.01 d jitter", small)] {
         let off = (c.0 / h.0).ln().abs();
         let allowed = (1.0 + search.rel_tol).ln() + 2.0 * (c.1 * c.1 + h.1 * h.1).sqrt();
