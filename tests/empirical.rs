@@ -58,7 +58,8 @@ fn the_answer_holds_for_twice_the_horizon_and_a_smaller_jitter() {
     };
     // The three answers at once: each search waits on its probes' runs in
     // turn, and the others' runs fill the cores meanwhile (an answer does
-    // not depend on how many run beside it: the next test).
+    // not depend on how many run beside it:
+    // `the_number_of_workers_changes_no_trial`).
     let (h, h2, small) = std::thread::scope(|s| {
         let h2 = s.spawn(|| c0_min(&base(128.0), &search));
         let small = s.spawn(|| c0_min(&base(64.0), &small_jitter));
