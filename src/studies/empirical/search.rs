@@ -387,8 +387,8 @@ mod tests {
 
     /// With the ok band ending at `top`, from below the margin to above
     /// it: the recommendation is the smallest ok c0 times the margin when
-    /// the band reaches it, else an ok trial inside the band at least a
-    /// quarter of its width (in log c0) from each edge; the band's end is
+    /// the band reaches it, else the band's geometric centre (with classes
+    /// that alternate, the ok trial farthest from the nearer edge); the band's end is
     /// bracketed to the tolerance by trials, and a margin of 1 runs
     /// nothing.
     #[test]
