@@ -661,3 +661,32 @@ fn the_rules_table_and_help_are_the_registry() {
         );
     }
 }
+
+/// A time-step factor above the kernel's stable one is run as asked, with
+/// a warning naming the factor, the bound and the flag, from `run` and
+/// from `c0`; at the defaults neither warns.
+#[test]
+fn factors_above_the_stable_ones_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = quick_run(
+        &dir.path().join("above"),
+        &["--cfl", "2", "--viscous-dt", "0.5"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    for wanted in [
+        "warning: cfl = 2 is above 1.8597",
+        "pressure term is stable on the perfect lattice",
+        "(--cfl)",
+        "warning: viscous_dt = 0.5 is above 0.1866",
+        "(--viscous-dt)",
+    ] {
+        assert!(err.contains(wanted), "{wanted:?} not in {err}");
+    }
+    let c0 = shearsph(&["c0", "--kernel", "monaghan", "--cfl", "2"]);
+    assert!(c0.status.success(), "{}", stderr(&c0));
+    assert!(stderr(&c0).contains("warning: cfl = 2 is above 1.8597"));
+    assert!(stdout(&c0).contains("stable on the perfect lattice up to cfl = 1.8597"));
+    let plain = quick_run(&dir.path().join("plain"), &[]);
+    assert!(plain.status.success() && !stderr(&plain).contains("warning"));
+}

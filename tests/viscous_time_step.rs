@@ -4,6 +4,9 @@
 //! (`LatticeGeometry::viscous_stable_factor`), and the default F kept
 //! below it (docs/timestep.md).
 
+mod common;
+use common::brute::Sites;
+
 use shearsph::config::Scene;
 use shearsph::kernel::{Kernel, KernelVisitor, Lattice};
 use shearsph::kernels::{kernel_info, with_kernel, KERNELS};
@@ -41,41 +44,20 @@ impl KernelVisitor for BruteRate {
     type Output = f64;
     fn visit<K: Kernel>(self) -> f64 {
         let BruteRate(lattice, h) = self;
-        let (a2x, a2y) = match lattice {
-            Lattice::Triangular => (0.5, 3f64.sqrt() / 2.0),
-            _ => (0.0, 1.0),
-        };
-        let area = a2y;
-        let mut w = K::w(0.0) / (h * h);
-        let mut sites = Vec::new();
-        for m in -12i32..=12 {
-            for n in -12i32..=12 {
-                let (x, y) = (f64::from(m) + f64::from(n) * a2x, f64::from(n) * a2y);
-                let q2 = (x * x + y * y) / (h * h);
-                if (m, n) != (0, 0) && q2 <= K::SUPPORT2_CLOSED {
-                    w += K::w(q2) / (h * h);
-                    sites.push((x, y, -K::w_dw_over_q_lanes(q2).1));
-                }
-            }
-        }
-        let sigma = area * w;
-        let tau = std::f64::consts::TAU;
-        let mut best = 0.0f64;
-        const N: u32 = 240;
-        for i in 0..N {
-            for j in 0..N {
-                // k . a1 = tau s, k . a2 = tau t.
-                let (s, t) = (f64::from(i) / f64::from(N), f64::from(j) / f64::from(N));
-                let kx = tau * s;
-                let ky = (tau * t - kx * a2x) / a2y;
-                let r: f64 = sites
+        let lattice = Sites::new::<K>(lattice, h);
+        let sites: Vec<_> = (lattice.others.iter())
+            .map(|&(x, y, q2)| (x, y, -K::w_dw_over_q_lanes(q2).1))
+            .collect();
+        let best = (lattice.wave_vectors(240))
+            .map(|(kx, ky)| {
+                sites
                     .iter()
                     .map(|&(x, y, f)| f * (1.0 - (kx * x + ky * y).cos()))
-                    .sum();
-                best = best.max(r);
-            }
-        }
-        2.0 * area * best / (h * h) / (sigma * sigma)
+                    .sum::<f64>()
+            })
+            .fold(0.0f64, f64::max);
+        let sigma = lattice.sigma;
+        2.0 * lattice.area * best / (h * h) / (sigma * sigma)
     }
 }
 

@@ -19,7 +19,7 @@ use crate::config::{C0Spec, Scene};
 use crate::empirical::{answer, resolve_empirical, Extras, Search};
 use crate::format::fmt_value;
 use crate::problem::c0::table;
-use crate::problem::cost::viscous_dt_warning;
+use crate::problem::cost::{cfl_warning, viscous_dt_warning};
 use crate::solver::Class;
 
 /// c0 by every rule for a scene, and the time step each implies.
@@ -93,7 +93,7 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
     }
     let scene = args.scene.load()?;
     let t = table(&scene).map_err(|e| args.scene.label(e))?;
-    warn_viscous_dt(&t);
+    warn_factors(&t);
     let ordered = if args.stability {
         Some(crate::stability::ordered_at(&scene, &t)?)
     } else {
@@ -146,6 +146,10 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
             t.viscous_dt_stable
         );
     }
+    println!(
+        "the kernel's pressure term is stable on the perfect lattice up to cfl = {:.4} (docs/timestep.md)",
+        t.cfl_stable
+    );
     println!(
         "{:<24} {:>12} {:>10} {:>12} {:>8} {:>12} {:>12} {:>10}",
         "rule", "c0", "c0/U", "dt", "limit", "dt_cfl", "dt_viscous", "steps"
@@ -314,7 +318,7 @@ pub(crate) fn check_search_top(
 fn empirical(args: &C0Args) -> Result<ExitCode> {
     let scene = args.scene.load()?;
     // Everything but c0 must be valid before the first run.
-    warn_viscous_dt(&table(&scene).map_err(|e| args.scene.label(e))?);
+    warn_factors(&table(&scene).map_err(|e| args.scene.label(e))?);
     let search = Search {
         amplitude: args.amplitude,
         seeds: args.seeds,
@@ -665,11 +669,15 @@ fn flow_of(scene: &Scene) -> (f64, f64, f64) {
     (ch.flow.b, ch.flow.nu, ch.flow.p)
 }
 
-/// On stderr, the warning when the table's viscous factor is above the
-/// largest the kernel's viscous term is stable at.
-fn warn_viscous_dt(t: &crate::problem::c0::C0Table) {
+/// On stderr, the warnings when the table's CFL or viscous factor is
+/// above the largest the kernel's pressure or viscous term is stable at.
+fn warn_factors(t: &crate::problem::c0::C0Table) {
     let what = format!("kernel {} ({})", t.kernel, t.discretisation);
-    if let Some(w) = viscous_dt_warning(t.viscous_dt, t.viscous_dt_stable, &what) {
+    let warnings = [
+        cfl_warning(t.cfl, t.cfl_stable, &what),
+        viscous_dt_warning(t.viscous_dt, t.viscous_dt_stable, &what),
+    ];
+    for w in warnings.into_iter().flatten() {
         eprintln!("{w}");
     }
 }

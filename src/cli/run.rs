@@ -20,7 +20,7 @@ use super::SceneArgs;
 use crate::charts::run::stage_charts;
 use crate::output::{self, StagedSet, Summary};
 use crate::particles::series::{self, ParticleOutput, Snapshot};
-use crate::problem::cost::viscous_dt_warning;
+use crate::problem::cost::{cfl_warning, viscous_dt_warning};
 use crate::problem::Problem;
 use crate::run::run_problem;
 use crate::solver::{Class, Observer, Outcome, RunResult, Sample};
@@ -82,8 +82,19 @@ pub fn main(args: RunArgs) -> Result<ExitCode> {
         problem.kernel.name,
         problem.discretisation.label()
     );
-    let stable = problem.viscous_stable_factor();
-    if let Some(w) = viscous_dt_warning(problem.dt_factors.viscous, stable, &what) {
+    let warnings = [
+        cfl_warning(
+            problem.dt_factors.cfl,
+            problem.acoustic_stable_factor(),
+            &what,
+        ),
+        viscous_dt_warning(
+            problem.dt_factors.viscous,
+            problem.viscous_stable_factor(),
+            &what,
+        ),
+    ];
+    for w in warnings.into_iter().flatten() {
         eprintln!("{w}");
     }
     output::prepare_dir(&args.out, args.force)?;

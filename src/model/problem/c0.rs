@@ -300,10 +300,12 @@ pub struct C0Table {
     pub scene_c0: String,
     pub scene_c0_error: Option<String>,
     /// The time step's factors in use (the scene's `cfl` and
-    /// `viscous_dt`), and the largest viscous factor at which the
-    /// kernel's viscous term is stable on the perfect lattice
-    /// ([`super::viscous_stable_factor`], docs/timestep.md).
+    /// `viscous_dt`), and the largest at which the kernel's pressure and
+    /// viscous terms are stable on the perfect lattice
+    /// ([`super::acoustic_stable_factor`], [`super::viscous_stable_factor`],
+    /// docs/timestep.md).
     pub cfl: f64,
+    pub cfl_stable: f64,
     pub viscous_dt: f64,
     pub viscous_dt_stable: f64,
     pub rows: Vec<C0Row>,
@@ -367,6 +369,15 @@ pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
         scene_c0: scene.c0.to_string(),
         scene_c0_error,
         cfl: scene.cfl,
+        cfl_stable: super::acoustic_stable_factor(
+            info,
+            &channel.lattice,
+            super::Eos::new(
+                scene.gamma,
+                scene.allow_negative_pressure,
+                scene.pressure_form,
+            ),
+        ),
         viscous_dt: channel.dt_factors.viscous,
         viscous_dt_stable: super::viscous_stable_factor(
             info,

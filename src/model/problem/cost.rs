@@ -133,6 +133,22 @@ pub fn viscous_dt_warning(factor: f64, stable: f64, what: &str) -> Option<String
     })
 }
 
+/// A warning when the CFL factor in use, `factor`, is above `stable`, the
+/// largest at which the kernel's pressure term is stable on the perfect
+/// lattice ([`super::acoustic_stable_factor`]); None otherwise. `what`
+/// names the kernel and discretisation.
+pub fn cfl_warning(factor: f64, stable: f64, what: &str) -> Option<String> {
+    (factor > stable).then(|| {
+        format!(
+            "warning: cfl = {} is above {:.4}, the largest factor at which {what}'s pressure term \
+             is stable on the perfect lattice (dt times its fastest sound wave's frequency at most \
+             2; docs/timestep.md): expect the lattice to go unstable, or lower cfl (--cfl)",
+            fmt_value(factor),
+            stable
+        )
+    })
+}
+
 /// The starting time step of a channel at sound speed `c0` with the
 /// scene's factors ([`Channel::dt_factors`]), U and p taken as the speed
 /// and acceleration scales, and the steps it takes to `t_end`.

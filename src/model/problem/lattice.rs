@@ -11,6 +11,41 @@ use crate::kernel::{Kernel, Lattice};
 /// as `Kernel::SUPPORT2_CLOSED`'s: neighbours at exactly q = R count.
 pub const CLOSED_TOL: f64 = 1e-9;
 
+/// The equation of state a lattice's sound waves are taken under
+/// ([`LatticeGeometry::acoustic_stable_factor`]): P = (c0^2 rho0 / gamma)
+/// ((rho / rho0)^gamma - 1), clamped at 0 unless negative pressures are
+/// allowed, and the pressure term's form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eos {
+    pub gamma: f64,
+    pub allow_negative: bool,
+    /// The symmetric form, -m sum (P_i / rho_i^2 + P_j / rho_j^2) grad W;
+    /// else the paper's (12).
+    pub symmetric: bool,
+}
+
+impl Eos {
+    /// The equation of state of a scene's or problem's fields.
+    pub fn new(gamma: f64, allow_negative: bool, form: crate::config::PressureForm) -> Eos {
+        Eos {
+            gamma,
+            allow_negative,
+            symmetric: form == crate::config::PressureForm::Symmetric,
+        }
+    }
+
+    /// The pressure at rho = sigma rho0 (clamped at 0 unless negative
+    /// pressures are allowed) and the slope dP / drho of a compression
+    /// there, in units of rho0 = 1 and c0 = 1. Under the clamp, a lattice
+    /// below rho0 has no pressure at rest; the waves that set the step are
+    /// those of its compressed parts, at the slope taken here.
+    fn at(self, sigma: f64) -> (f64, f64) {
+        let p = (sigma.powf(self.gamma) - 1.0) / self.gamma;
+        let p = if self.allow_negative { p } else { p.max(0.0) };
+        (p, sigma.powf(self.gamma - 1.0))
+    }
+}
+
 /// Where the particles sit and how many there are.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LatticeGeometry {
@@ -129,7 +164,6 @@ impl LatticeGeometry {
     /// is taken on a grid over the reciprocal cell and refined from the
     /// best point by a pattern search, to a relative 1e-12 of the rate.
     pub fn viscous_stable_factor<K: Kernel>(&self) -> f64 {
-        let (d, dy) = (self.d, self.dy);
         let inv_h2 = 1.0 / (self.h * self.h);
         let mut w_sum = 0.0;
         // (x, y, -F h^4) of every other site in the support.
@@ -140,18 +174,36 @@ impl LatticeGeometry {
                 sites.push((x, y, -K::w_dw_over_q_lanes(q2).1));
             }
         }
+        let best = self.max_over_wave_vectors(|kx, ky| {
+            sites
+                .iter()
+                .map(|&(x, y, f)| f * (1.0 - (kx * x + ky * y).cos()))
+                .sum::<f64>()
+        });
+        let area = self.area();
+        let sigma = area * w_sum;
+        // h^2 Lambda / nu, with F = (-F h^4) / h^4.
+        let rate_h2_over_nu = 2.0 * area * best * inv_h2 / (sigma * sigma);
+        if rate_h2_over_nu > 0.0 {
+            1.0 / rate_h2_over_nu
+        } else {
+            // A term that damps no mode (a kernel whose gradient vanishes
+            // at every neighbour) sets no limit.
+            f64::INFINITY
+        }
+    }
+
+    /// The largest value of `rate(kx, ky)` over the wave vectors k of the
+    /// lattice's reciprocal cell: a 48 x 48 grid over the cell, refined from
+    /// its best point by a pattern search to a relative 1e-12 of the value.
+    fn max_over_wave_vectors(&self, rate: impl Fn(f64, f64) -> f64) -> f64 {
+        let (d, dy) = (self.d, self.dy);
         // The reciprocal basis of the lattice's a1 = (d, 0), a2 = (shift
         // of layer 1, dy): k = s b1 + t b2, (s, t) over [0, 1)^2.
         let c = self.kind.offset(1) * d;
         let tau = std::f64::consts::TAU;
         let (b1, b2) = ((tau / d, -tau * c / (d * dy)), (0.0, tau / dy));
-        let rate = |s: f64, t: f64| {
-            let (kx, ky) = (s * b1.0 + t * b2.0, s * b1.1 + t * b2.1);
-            sites
-                .iter()
-                .map(|&(x, y, f)| f * (1.0 - (kx * x + ky * y).cos()))
-                .sum::<f64>()
-        };
+        let rate = |s: f64, t: f64| rate(s * b1.0 + t * b2.0, s * b1.1 + t * b2.1);
         const GRID: u32 = 48;
         let mut best = (0.0, 0.0, f64::NEG_INFINITY);
         for a in 0..GRID {
@@ -176,15 +228,104 @@ impl LatticeGeometry {
                 None => step /= 2.0,
             }
         }
-        let area = self.area();
+        best.2
+    }
+
+    /// The largest factor of the CFL limit dt <= CFL h / c0 at which the
+    /// solver's pressure term is stable on the perfect, unbounded lattice
+    /// for kernel K, its fluid at rest under the equation of state `eos`:
+    /// CFL = 2 / (h omega_max / c0).
+    ///
+    /// A displacement wave xi_j = xi e^(i k . r_j) of the lattice changes
+    /// the summation density by delta rho = i m G(k) . xi, with G(k) =
+    /// sum_j grad W(r_j) sin(k . r_j) over the other sites within the
+    /// closed support. The pressure term, linearised about the lattice's
+    /// density rho = rho0 sigma and pressure P, accelerates it by -D(k) xi:
+    ///
+    /// - paper form, -(m / rho_i^2) sum_j (P_i + P_j) grad_i W_ij:
+    ///   D = (m / rho^2) (m P' G G^T + 2 P M(k));
+    /// - symmetric form, -m sum_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij:
+    ///   D = (m / rho^2) (m (P' - 2 P / rho) G G^T + 2 P M(k));
+    ///
+    /// P' the equation of state's slope there, M(k) = sum_j H(r_j) (1 -
+    /// cos(k . r_j)) and H the Hessian of W (the second term: the lattice's
+    /// own pressure acting on the kernel's curvature, which the compaction
+    /// eps0 = sigma - 1 of a kernel far from its lattice makes large). The
+    /// sound waves' omega^2 are D's eigenvalues; the kick-drift-kick
+    /// leapfrog keeps a wave bounded while dt omega <= 2, so the factor is
+    /// 2 / (h sqrt(max_k lambda_max(D)) / c0), the maximum over k as in
+    /// [`Self::viscous_stable_factor`]. H takes the derivative of W' / r,
+    /// by central differences in q^2. Infinite where no wave oscillates
+    /// (a pressure clamped at 0 on a lattice below rho0); the viscous terms,
+    /// which damp, and the speeds |v| in the limit's denominator, which
+    /// shorten the step, are not in it (docs/timestep.md).
+    pub fn acoustic_stable_factor<K: Kernel>(&self, eos: Eos) -> f64 {
+        let (h, area) = (self.h, self.area());
+        let inv_h2 = 1.0 / (h * h);
+        let mut w_sum = 0.0;
+        // (x, y, f, f') of every other site in the support, f = (dW/dq)/q
+        // in units h^-4 and f' its derivative in q^2: grad W = f r / h^4,
+        // H = (f I + 2 f' r r^T / h^2) / h^4.
+        let mut sites = Vec::new();
+        let f = |q2: f64| K::w_dw_over_q_lanes(q2).1;
+        let step = 1e-6 * K::SUPPORT2_CLOSED;
+        for (x, y, q2) in self.support_sites::<K>() {
+            w_sum += K::w(q2) * inv_h2;
+            if x != 0.0 || y != 0.0 {
+                // Inside the support: at its edge (a neighbour at q = R
+                // exactly, which the closed support lists) from below, a
+                // kernel whose gradient does not vanish there jumping to 0
+                // beyond it.
+                let slope = if q2 + step <= K::SUPPORT2_CLOSED {
+                    (f(q2 + step) - f(q2 - step)) / (2.0 * step)
+                } else {
+                    (3.0 * f(q2) - 4.0 * f(q2 - step) + f(q2 - 2.0 * step)) / (2.0 * step)
+                };
+                sites.push((x, y, f(q2), slope));
+            }
+        }
         let sigma = area * w_sum;
-        // h^2 Lambda / nu, with F = (-F h^4) / h^4.
-        let rate_h2_over_nu = 2.0 * area * best.2 * inv_h2 / (sigma * sigma);
-        if rate_h2_over_nu > 0.0 {
-            1.0 / rate_h2_over_nu
+        // In units of rho0 = 1 and c0 = 1: m = A, the pressure and slope at
+        // rho = sigma, and the factors of G G^T and M in D.
+        let (p, slope) = eos.at(sigma);
+        let scale = area / (sigma * sigma);
+        let g_coef = scale
+            * area
+            * if eos.symmetric {
+                slope - 2.0 * p / sigma
+            } else {
+                slope
+            };
+        let m_coef = scale * 2.0 * p;
+        let inv_h4 = inv_h2 * inv_h2;
+        let omega2_max = self.max_over_wave_vectors(|kx, ky| {
+            let (mut g, mut m) = ([0.0; 2], [0.0; 3]);
+            for &(x, y, f, fd) in &sites {
+                let phase = kx * x + ky * y;
+                let (sin, one_minus_cos) = (phase.sin(), 1.0 - phase.cos());
+                g[0] += f * x * sin;
+                g[1] += f * y * sin;
+                let c = 2.0 * fd * inv_h2 * one_minus_cos;
+                m[0] += f * one_minus_cos + c * x * x;
+                m[1] += c * x * y;
+                m[2] += f * one_minus_cos + c * y * y;
+            }
+            // G = g / h^4 and M = m / h^4.
+            let gg = g_coef * inv_h4 * inv_h4;
+            let mm = m_coef * inv_h4;
+            let d = [
+                gg * g[0] * g[0] + mm * m[0],
+                gg * g[0] * g[1] + mm * m[1],
+                gg * g[1] * g[1] + mm * m[2],
+            ];
+            let (mean, half) = (0.5 * (d[0] + d[2]), 0.5 * (d[0] - d[2]));
+            mean + (half * half + d[1] * d[1]).sqrt()
+        });
+        // omega^2 in units of c0^2 (rho0 = c0 = 1): h omega_max / c0.
+        let omega_h = h * omega2_max.max(0.0).sqrt();
+        if omega_h > 0.0 {
+            2.0 / omega_h
         } else {
-            // A term that damps no mode (a kernel whose gradient vanishes
-            // at every neighbour) sets no limit.
             f64::INFINITY
         }
     }

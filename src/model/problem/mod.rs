@@ -30,6 +30,7 @@ use blame::{blame_run_time, c0_inputs};
 pub(crate) use blame::{derived, with};
 use channel::Channel;
 use horizon::{Horizon, HorizonKind};
+pub use lattice::Eos;
 use lattice::LatticeGeometry;
 
 /// A scene resolved against its kernel: every number the solver uses.
@@ -312,6 +313,17 @@ impl Problem {
         viscous_stable_factor(self.kernel, &self.lattice, self.viscous_normalisation)
     }
 
+    /// The largest CFL factor at which this problem's pressure term is
+    /// stable on its perfect lattice ([`acoustic_stable_factor`]).
+    pub fn acoustic_stable_factor(&self) -> f64 {
+        acoustic_stable_factor(self.kernel, &self.lattice, self.eos())
+    }
+
+    /// The equation of state and pressure form of this problem's fluid.
+    pub fn eos(&self) -> Eos {
+        Eos::new(self.gamma, self.allow_negative_pressure, self.pressure_form)
+    }
+
     /// The problem's channel: its lattice and flow.
     pub fn channel(&self) -> Channel {
         Channel {
@@ -426,39 +438,7 @@ pub fn viscous_stable_factor(
     lattice: &LatticeGeometry,
     normalisation: ViscousNormalisation,
 ) -> f64 {
-    struct Factor<'a>(&'a LatticeGeometry);
-    impl KernelVisitor for Factor<'_> {
-        type Output = f64;
-        fn visit<K: Kernel>(self) -> f64 {
-            self.0.viscous_stable_factor::<K>()
-        }
-    }
-    // A grid over the wave vectors for each kernel and lattice: kept, as
-    // every run of a search or sweep resolves its scene.
-    type Key = (&'static str, crate::kernel::Lattice, u64, u64);
-    static KNOWN: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
-    let key = (
-        info.name,
-        lattice.kind,
-        lattice.d.to_bits(),
-        lattice.h.to_bits(),
-    );
-    let known = |k: &Key| {
-        KNOWN
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .iter()
-            .find(|(q, _)| q == k)
-            .map(|&(_, f)| f)
-    };
-    let f = known(&key).unwrap_or_else(|| {
-        let f = kernels::with_kernel(info.name, Factor(lattice)).unwrap_or(f64::NAN);
-        KNOWN
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .push((key, f));
-        f
-    });
+    let f = stable_factor(Term::Viscous, info, lattice);
     match normalisation {
         ViscousNormalisation::None => f,
         ViscousNormalisation::Lattice => {
@@ -472,6 +452,67 @@ pub fn viscous_stable_factor(
             }
         }
     }
+}
+
+/// The largest factor of the CFL limit, dt <= CFL h / (c0 + |v|max), at
+/// which the pressure term of kernel `info` on the perfect `lattice` is
+/// stable ([`LatticeGeometry::acoustic_stable_factor`]; NaN for a kernel
+/// not compiled in). `c0` and `run` warn above it
+/// ([`cost::cfl_warning`]).
+pub fn acoustic_stable_factor(
+    info: &'static KernelInfo,
+    lattice: &LatticeGeometry,
+    eos: Eos,
+) -> f64 {
+    stable_factor(Term::Pressure(eos), info, lattice)
+}
+
+/// The term a stable factor is of.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Term {
+    Viscous,
+    Pressure(Eos),
+}
+
+/// The stable factor of `term` for kernel `info` on `lattice`, each
+/// computed once a process: a grid over the wave vectors for each kernel
+/// and lattice, and every run of a search or sweep resolves its scene.
+fn stable_factor(term: Term, info: &'static KernelInfo, lattice: &LatticeGeometry) -> f64 {
+    struct Factor<'a>(Term, &'a LatticeGeometry);
+    impl KernelVisitor for Factor<'_> {
+        type Output = f64;
+        fn visit<K: Kernel>(self) -> f64 {
+            match self.0 {
+                Term::Viscous => self.1.viscous_stable_factor::<K>(),
+                Term::Pressure(eos) => self.1.acoustic_stable_factor::<K>(eos),
+            }
+        }
+    }
+    type Key = (Term, &'static str, crate::kernel::Lattice, u64, u64);
+    static KNOWN: std::sync::Mutex<Vec<(Key, f64)>> = std::sync::Mutex::new(Vec::new());
+    let key = (
+        term,
+        info.name,
+        lattice.kind,
+        lattice.d.to_bits(),
+        lattice.h.to_bits(),
+    );
+    let known = |k: &Key| {
+        KNOWN
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .iter()
+            .find(|(q, _)| q == k)
+            .map(|&(_, f)| f)
+    };
+    known(&key).unwrap_or_else(|| {
+        let f = kernels::with_kernel(info.name, Factor(term, lattice)).unwrap_or(f64::NAN);
+        KNOWN
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push((key, f));
+        f
+    })
 }
 
 /// [`Lattice::viscous_lattice_sum`] for the kernel `info` names.
@@ -503,8 +544,11 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
         ));
     }
     crate::config::check_alpha(scene.alpha)?;
+    // The caps keep a typo out; the bounds that matter are the kernel's
+    // stable factors, which `c0` prints and `run` warns above (up to 2.31
+    // for the CFL factor, Morris's kernel).
     for (field, v, hi) in [
-        ("cfl", Some(scene.cfl), 2.0),
+        ("cfl", Some(scene.cfl), 4.0),
         ("viscous_dt", scene.viscous_dt, 1.0),
     ] {
         let Some(v) = v else { continue };
@@ -513,7 +557,8 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
                 field,
                 format!(
                     "{} must be in (0, {hi}]: a time-step factor (cfl 0.5 by default, viscous_dt \
-                     0.85 of the kernel's stable factor, docs/timestep.md)",
+                     0.85 of the kernel's stable factor; `c0` prints the largest each is stable \
+                     at, docs/timestep.md)",
                     fmt_value(v)
                 ),
             ));
