@@ -262,8 +262,9 @@ impl LatticeGeometry {
     /// which damp, and the speeds |v| in the limit's denominator, which
     /// shorten the step, are not in it. Checked against runs: the onset
     /// within 3 % of it for Monaghan's and Morris's kernels, 3-10 % below
-    /// it for Wendland C2, and far below it for the composite kernel on
-    /// the square lattice at h = d (docs/timestep.md).
+    /// it for Wendland C2; the composite kernel's square lattice at h = d
+    /// keeps no order at any factor, so no factor applies there
+    /// (docs/timestep.md).
     pub fn acoustic_stable_factor<K: Kernel>(&self, eos: Eos) -> f64 {
         let (h, area) = (self.h, self.area());
         let inv_h2 = 1.0 / (h * h);
