@@ -10,7 +10,6 @@
 # usage: seeds.sh SHEARSPH OUT [JOBS [FIRST [LAST]]]   (one thread a run)
 set -euo pipefail
 bin=$1 out=$2 jobs=${3:-2} first=${4:-4} last=${5:-40}
-mkdir -p "$out/runs"
 {
   for s in $(seq "$first" "$last"); do
     for f in 0.25 0.5 1.0; do
@@ -18,14 +17,4 @@ mkdir -p "$out/runs"
       echo "monaghan triangular 1 1 100 $f $s"
     done
   done
-} | xargs -P "$jobs" -L 1 bash -c '
-  k=$0 lat=$1 hd=$2 re=$3 c0=$4 f=$5 s=$6
-  name="$k-$lat-${hd/\//_}-re$re-c0$c0-cfl$f-seed$s"
-  dest="'"$out"'/runs/$name.json"
-  [ -s "$dest" ] && exit 0
-  tmp=$(mktemp -d)
-  RAYON_NUM_THREADS=1 "'"$bin"'" run --kernel "$k" --lattice "$lat" --h-over-d "$hd" \
-    --n 10 --re "$re" --c0 "$c0" --cfl "$f" --jitter 0.05 --jitter-seed "$s" \
-    --horizon stationary --out "$tmp" --force --quiet --json --no-particles > "$tmp/run.json" || true
-  mv "$tmp/run.json" "$dest"; rm -rf "$tmp"
-'
+} | "$(dirname "$0")/../2026-12-07-cfl-factor/run-cases.sh" "$bin" "$out" "$jobs"

@@ -9,7 +9,6 @@
 # usage: cfl-grid.sh SHEARSPH OUT [JOBS]   (each run on one thread)
 set -euo pipefail
 bin=$1 out=$2 jobs=${3:-2}
-mkdir -p "$out/runs"
 {
   for k in monaghan morris wendland_c2 composite; do
     for disc in "triangular 1" "triangular 13/10" "square 1" "square 13/10" "square 17/10"; do
@@ -21,15 +20,4 @@ mkdir -p "$out/runs"
       for s in 0 1 2 3; do echo "$k triangular 1 1 100 $f $s"; done
     done
   done
-} | xargs -P "$jobs" -L 1 bash -c '
-  k=$0 lat=$1 hd=$2 re=$3 c0=$4 f=$5 s=$6
-  name="$k-$lat-${hd/\//_}-re$re-c0$c0-cfl$f-seed$s"
-  dest="'"$out"'/runs/$name.json"
-  [ -s "$dest" ] && exit 0
-  jit=(--jitter 0.05 --jitter-seed "$s"); [ "$s" = 0 ] && jit=()
-  tmp=$(mktemp -d)
-  RAYON_NUM_THREADS=1 "'"$bin"'" run --kernel "$k" --lattice "$lat" --h-over-d "$hd" \
-    --n 10 --re "$re" --c0 "$c0" --cfl "$f" "${jit[@]}" --horizon stationary \
-    --out "$tmp" --force --quiet --json --no-particles > "$tmp/run.json" || true
-  mv "$tmp/run.json" "$dest"; rm -rf "$tmp"
-'
+} | "$(dirname "$0")/run-cases.sh" "$bin" "$out" "$jobs"
