@@ -252,6 +252,53 @@ fn the_empirical_answer_has_its_schema() {
     }
 }
 
+/// `--tolerance`: the disordered law's c0 for a density tolerance, said to
+/// be extrapolated exactly when it lies outside the c0 of the trials the
+/// law was fitted on (here delta = 0.001 puts it above them: a short
+/// horizon, one seed, no rules, so that the law is fitted cheaply).
+#[test]
+fn the_tolerance_says_when_the_law_is_extrapolated() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
+        .args(["c0", "--empirical", "--json", "--quiet", "--no-rules"])
+        .args(["--rel-tol", "0.5", "--tolerance", "0.001"])
+        .args([
+            "--n",
+            "6",
+            "--re",
+            "1",
+            "--horizon-span",
+            "32",
+            "--seeds",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let tol = &v["tolerance"];
+    assert_eq!(tol["delta"], 0.001, "{tol}");
+    let c = tol["law_c0_over_u"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("a law fitted: {}", v["law"]));
+    let xs: Vec<f64> = v["law"]["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p[0].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    assert!(c > hi, "the law's c0 {c} U within its trials' {lo}..{hi} U");
+    assert_eq!(tol["law_extrapolated"], true, "{tol}");
+}
+
 #[test]
 fn empirical_as_a_c0_rule_runs_the_search_first() {
     // `run --c0 empirical`: the search for the scene, said on stdout, then

@@ -602,6 +602,9 @@ struct Tolerance {
     delta: f64,
     /// c0 / U from the law (None: no law fitted).
     law_c0_over_u: Option<f64>,
+    /// Whether that c0 lies outside the c0 range of the trials the law was
+    /// fitted on (None: no law fitted).
+    law_extrapolated: Option<bool>,
     /// Monaghan's M^2 <= delta: c0 = U / sqrt(delta); rule10; Morris 1997
     /// at delta; each with the law's compaction at it (what it gives).
     rules: Vec<(String, f64, Option<f64>)>,
@@ -628,9 +631,11 @@ impl Tolerance {
         .into_iter()
         .map(|(n, c)| (n, c / u, law.map(|l| l.eps_at(c / u))))
         .collect();
+        let law_c0_over_u = law.map(|l| l.c0_over_u(delta));
         Tolerance {
             delta,
-            law_c0_over_u: law.map(|l| l.c0_over_u(delta)),
+            law_c0_over_u,
+            law_extrapolated: law.zip(law_c0_over_u).map(|(l, c)| !l.covers(c)),
             rules,
         }
     }
@@ -639,9 +644,14 @@ impl Tolerance {
         let f = crate::format::fmt_num;
         match self.law_c0_over_u {
             Some(c) => println!(
-                "for a density tolerance delta = {} (on eps_stat - eps0+): c0 = {} U by the disordered law",
+                "for a density tolerance delta = {} (on eps_stat - eps0+): c0 = {} U by the disordered law{}",
                 f(self.delta),
-                f(c)
+                f(c),
+                if self.law_extrapolated == Some(true) {
+                    " (extrapolated: outside the c0 of the trials it was fitted on; docs/stationary.md)"
+                } else {
+                    ""
+                }
             ),
             None => println!(
                 "for a density tolerance delta = {}: no disordered law was fitted (too few settled trials)",

@@ -45,6 +45,15 @@ impl DisorderedLaw {
             xs.fold(f64::NEG_INFINITY, f64::max),
         )
     }
+
+    /// Whether `c0_over_u` lies within [`range`](Self::range): outside it
+    /// the law is extrapolated, and the disordered state it was fitted on
+    /// need not be the one there (well above the compaction's bound it can
+    /// quiet over thousands of t: docs/stationary.md).
+    pub fn covers(&self, c0_over_u: f64) -> bool {
+        let (lo, hi) = self.range();
+        (lo..=hi).contains(&c0_over_u)
+    }
 }
 
 /// Fit the law on the settled trials whose compaction above the lattice's
@@ -97,5 +106,7 @@ mod tests {
         assert!((law.c0_over_u(0.01) - 20.0).abs() < 1e-12);
         assert!((law.eps_at(10.0) - 0.04).abs() < 1e-15);
         assert_eq!(law.range(), (5.0, 20.0));
+        assert!(law.covers(5.0) && law.covers(12.0) && law.covers(20.0));
+        assert!(!law.covers(4.99) && !law.covers(20.01));
     }
 }
