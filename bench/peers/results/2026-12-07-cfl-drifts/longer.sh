@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The same runs, longer: `--horizon-span 256` puts the first checkpoint at
 # t_su + 256 t_s (the default's cap) and the later ones at 512 and
-# 1024 t_s. (a) Morris's kernel on the square lattice at 17/10, Re = 30,
-# c0 = 10 U, cfl 0.5: the twelve lowest of seeds.sh's seeds 4-40 that stopped
-# at the default's first checkpoint (t = 1485), and on the triangular
-# lattice at 13/10, seeds 1-3 (the CFL factor's grid's); (b) the empirical search's
-# scenes, Monaghan's kernel at N = 10: Re = 1 at 28 U (the disordered
-# bracket) and Re = 10 at 10 U, seeds 1-3. Each run's JSON and its
-# timeseries.csv in OUT/NAME/.
+# 1024 t_s. (a) Morris's kernel at Re = 30, c0 = 10 U, cfl 0.5: on the
+# square lattice at 17/10, the twelve lowest of seeds.sh's seeds 4-40 that
+# stopped at the default's first checkpoint (t = 1485); on the triangular
+# lattice at 13/10, seeds 1-3 (the CFL factor's grid's). (b) The empirical
+# search's scenes, Monaghan's kernel at N = 10: Re = 1 at 28 U (the
+# disordered bracket) and Re = 10 at 10 U, seeds 1-3. Each run's JSON and
+# its timeseries.csv in OUT/NAME/.
 #
 # usage: longer.sh SHEARSPH OUT [JOBS]   (one thread a run)
 set -euo pipefail
