@@ -170,11 +170,11 @@ const CHEAP: [&str; 8] = [
     "1",
 ];
 
-#[test]
-fn the_empirical_answer_has_its_schema() {
+/// `shearsph c0 --empirical --json --quiet ARGS`: it succeeds, and its JSON.
+fn c0_empirical_json(args: &[&str]) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(["c0", "--empirical", "--json", "--quiet", "--rel-tol", "0.5"])
-        .args(CHEAP)
+        .args(["c0", "--empirical", "--json", "--quiet"])
+        .args(args)
         .output()
         .unwrap();
     assert!(
@@ -182,7 +182,12 @@ fn the_empirical_answer_has_its_schema() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn the_empirical_answer_has_its_schema() {
+    let v = c0_empirical_json(&[&["--rel-tol", "0.5"][..], &CHEAP].concat());
     assert!(v["recommended"].is_number() || v["recommended"].is_null());
     // The recommendation is a c0 whose own disordered run was ok, inside
     // the band above the smallest ok c0.
@@ -258,27 +263,9 @@ fn the_empirical_answer_has_its_schema() {
 /// horizon, one seed, no rules, so that the law is fitted cheaply).
 #[test]
 fn the_tolerance_says_when_the_law_is_extrapolated() {
-    let out = Command::new(env!("CARGO_BIN_EXE_shearsph"))
-        .args(["c0", "--empirical", "--json", "--quiet", "--no-rules"])
-        .args(["--rel-tol", "0.5", "--tolerance", "0.001"])
-        .args([
-            "--n",
-            "6",
-            "--re",
-            "1",
-            "--horizon-span",
-            "32",
-            "--seeds",
-            "1",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let args =
+        "--no-rules --rel-tol 0.5 --tolerance 0.001 --n 6 --re 1 --horizon-span 32 --seeds 1";
+    let v = c0_empirical_json(&args.split(' ').collect::<Vec<_>>());
     let tol = &v["tolerance"];
     assert_eq!(tol["delta"], 0.001, "{tol}");
     let c = tol["law_c0_over_u"]
