@@ -11,7 +11,8 @@
 #
 # usage: scripts/stability-check.sh [OUT=target/stability-check] [tables]
 #   VISCOUS_DT=F sets every case's viscous factor, the linearised step's
-#   and the measuring runs' (default: each kernel's own)
+#   and the measuring runs', CFL=F their CFL factor (default: each
+#   kernel's own)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/stability-check}
@@ -32,7 +33,7 @@ if [ "${2:-}" != tables ]; then
 for k in $KERNELS; do
   for lat in triangular square; do
     "$B" stability --kernel "$k" --lattice "$lat" --h-over-d 1 --n 10 --re 1 --alpha 0.1 \
-      --c0-over-u 5,10,20 --measure --measure-t-end 800 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} \
+      --c0-over-u 5,10,20 --measure --measure-t-end 800 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} ${CFL:+--cfl "$CFL"} \
       --json | strip "$OUT/check-$k-$lat.json"
   done
 done
@@ -40,7 +41,7 @@ for k in $KERNELS; do
   for lat in triangular square; do
     for re in 1 10; do
       "$B" stability --kernel "$k" --lattice "$lat" --h-over-d 1 --n 10 --re "$re" --alpha 0.1 \
-        --c0-over-u 3,5,7,10,14,20,30,40 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} \
+        --c0-over-u 3,5,7,10,14,20,30,40 ${VISCOUS_DT:+--viscous-dt "$VISCOUS_DT"} ${CFL:+--cfl "$CFL"} \
         --json | strip "$OUT/map-$k-$lat-re$re.json"
     done
   done

@@ -7,7 +7,8 @@
 # markdown table; writes each run's summary under OUT.
 #
 # usage: scripts/time-to-disorder.sh [OUT=target/time-to-disorder] [T_END=2500]
-#   VISCOUS_DT=F sets every run's viscous factor (default: each kernel's own)
+#   VISCOUS_DT=F sets every run's viscous factor, CFL=F its CFL factor
+#   (default: each kernel's own)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/time-to-disorder}
@@ -20,6 +21,7 @@ run() { # kernel lattice h re c0 a
   local jitter=()
   [ "$6" != 0 ] && jitter=(--jitter "$6" --jitter-seed 1)
   [ -n "${VISCOUS_DT:-}" ] && jitter+=(--viscous-dt "$VISCOUS_DT")
+  [ -n "${CFL:-}" ] && jitter+=(--cfl "$CFL")
   "$B" run --kernel "$1" --lattice "$2" --h-over-d "$3" --n 10 --re "$4" --c0 "$5" \
     "${jitter[@]}" --columns 18 --t-end "$T_END" --output-interval 2 --eps-limit 1 \
     --no-particles --quiet --force --out "$dir" > /dev/null || true

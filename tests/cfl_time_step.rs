@@ -148,7 +148,7 @@ fn at_factor(kernel: &str, lattice: Lattice, h: f64, factor: f64) -> RunResult {
     s.re = Some(30.0);
     s.c0 = "100".parse().unwrap();
     s.t_end = Some(40.0);
-    s.cfl = factor * problem(&s).acoustic_stable_factor();
+    s.cfl = Some(factor * problem(&s).acoustic_stable_factor());
     shearsph::run::run_scene(&s, &mut Quiet).expect("a valid scene")
 }
 
@@ -198,4 +198,38 @@ fn the_factor_follows_the_equation_of_state() {
     let negative = problem(&neg).acoustic_stable_factor();
     eprintln!("monaghan triangular h = d: clamped {clamped:.4}, negative pressures {negative:.4}");
     assert!(clamped.is_finite() && negative.is_finite() && negative != clamped);
+}
+
+/// The default factor: half the stable factor, at most 1; 0.5 where the
+/// stable factor is unknown (NaN, not positive) or there is none
+/// (infinite). A scene that gives no `cfl` runs at its kernel's default on
+/// its lattice and equation of state; one that gives it runs at it.
+#[test]
+fn the_default_factor_by_the_stable_one() {
+    use shearsph::problem::cost::default_cfl;
+    assert_eq!(default_cfl(1.8597), 0.5 * 1.8597);
+    assert_eq!(default_cfl(1.9), 0.95);
+    assert_eq!(default_cfl(2.31), 1.0);
+    for unknown in [f64::NAN, f64::INFINITY, 0.0, -0.1] {
+        assert_eq!(default_cfl(unknown), 0.5, "{unknown}");
+    }
+    let mut cases = vec![];
+    for (kernel, lattice, h) in [
+        ("monaghan", Lattice::Triangular, 1.0),
+        ("morris", Lattice::Square, 1.7),
+        ("composite", Lattice::Triangular, 1.3),
+    ] {
+        cases.push(scene(kernel, lattice, h));
+    }
+    let mut g7 = scene("wendland_c2", Lattice::Triangular, 1.0);
+    g7.gamma = 7.0;
+    cases.push(g7);
+    for s in &cases {
+        let p = problem(s);
+        let stable = p.acoustic_stable_factor();
+        assert_eq!(p.dt_factors.cfl, default_cfl(stable), "{}", s.kernel);
+        let mut given = s.clone();
+        given.cfl = Some(0.3);
+        assert_eq!(problem(&given).dt_factors.cfl, 0.3);
+    }
 }

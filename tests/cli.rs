@@ -497,8 +497,15 @@ fn c0_lists_every_rule_with_its_time_step() {
     );
     let rule10 = rows.iter().find(|r| r["rule"] == "rule10").unwrap();
     assert_eq!(rule10["c0"], 10.0);
-    // cfl h / (c0 + U) with the default cfl = 0.5, h = 1, U = 1.
-    assert!((rule10["cost"]["dt_cfl"].as_f64().unwrap() - 0.5 / 11.0).abs() < 1e-15);
+    // cfl h / (c0 + U) with h = 1, U = 1 and the default cfl: half the
+    // factor at which the kernel's pressure term is stable, at most 1.
+    let (cfl, stable) = (
+        t["cfl"].as_f64().unwrap(),
+        t["cfl_stable"].as_f64().unwrap(),
+    );
+    assert!(stable > 1.8 && stable < 1.9, "{stable}");
+    assert_eq!(cfl, (0.5 * stable).min(1.0));
+    assert!((rule10["cost"]["dt_cfl"].as_f64().unwrap() - cfl / 11.0).abs() < 1e-15);
     assert!(rule10["cost"]["dt_limit"].is_string());
 
     let text = shearsph(&["c0", "--kernel", "monaghan", "--n", "12"]);

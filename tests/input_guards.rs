@@ -181,7 +181,7 @@ fn one_point_sweep(out: &str, extra: &[&str]) -> Output {
         "--c0",
         "rule10",
         "--t-end",
-        "0.05",
+        "0.1",
     ];
     args.extend_from_slice(extra);
     shearsph(&args)

@@ -53,9 +53,10 @@ if [ -z "${SHEARSPH:-}" ]; then
 fi
 mkdir -p "$OUT"
 export OMP_NUM_THREADS=1 RAYON_NUM_THREADS=1
-# shearsph's viscous factor is PySPH's fixed 0.125 (its default, 0.85 of the
-# kernel's stable factor, is 0.156 on this lattice: docs/timestep.md)
-SCENE=(--lattice square --h-over-d 1 --kernel monaghan --n 10 --alpha 0.1 --columns 20 --viscous-dt 0.125)
+# shearsph's time-step factors are PySPH's fixed 0.5 and 0.125 (its defaults,
+# half and 0.85 of the kernel's stable factors, are 0.946 and 0.156 on this
+# lattice: docs/timestep.md)
+SCENE=(--lattice square --h-over-d 1 --kernel monaghan --n 10 --alpha 0.1 --columns 20 --cfl 0.5 --viscous-dt 0.125)
 
 flags() {  # a scheme's pysph_c0.py flags
   case $1 in

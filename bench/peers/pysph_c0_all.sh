@@ -35,7 +35,7 @@ if [ "${ANSWERS:-1}" != 0 ]; then
   for re in 1 10; do
     [ -s "$OUT/c0-empirical-re$re.txt" ] && continue
     nice -n "$NICE" "$SHEARSPH" c0 --empirical --lattice square --h-over-d 1 --kernel monaghan \
-      --n 10 --re "$re" --alpha 0.1 --viscous-dt 0.125 > "$OUT/c0-empirical-re$re.txt"
+      --n 10 --re "$re" --alpha 0.1 --cfl 0.5 --viscous-dt 0.125 > "$OUT/c0-empirical-re$re.txt"
   done
 fi
 

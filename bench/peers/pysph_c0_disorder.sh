@@ -27,7 +27,7 @@ tag="re$RE-c$C0-j$JITTER-s1"
 if [ ! -s "$OUT/disorder-shearsph-$tag.json" ]; then
   work=$(mktemp -d)
   nice -n "$NICE" "$SHEARSPH" run --lattice square --h-over-d 1 --kernel monaghan \
-    --n 10 --alpha 0.1 --columns 20 --viscous-dt 0.125 --re "$RE" --c0 "$C0" --jitter "$JITTER" --jitter-seed 1 \
+    --n 10 --alpha 0.1 --columns 20 --cfl 0.5 --viscous-dt 0.125 --re "$RE" --c0 "$C0" --jitter "$JITTER" --jitter-seed 1 \
     --t-end "$T_END" --output-interval 2.5 --out "$work/run" --force --quiet --json --no-particles \
     > "$OUT/disorder-shearsph-$tag.json" || true  # the exit status is the class
   cp "$work/run/timeseries.csv" "$OUT/disorder-shearsph-$tag.csv"

@@ -128,27 +128,31 @@ pub fn main(args: C0Args) -> Result<ExitCode> {
         "time steps with |v|max = U and |a|max = p; steps to t_end = {:.6}",
         t.t_end
     );
-    if t.viscous_dt == crate::problem::cost::default_viscous_dt(t.viscous_dt_stable) {
-        println!(
-            "time-step factors: cfl = {}, viscous_dt = {:.4} (the default: {} of {:.4}, the largest \
-             at which the kernel's viscous term is stable on the perfect lattice; docs/timestep.md)",
-            fmt_value(t.cfl),
-            t.viscous_dt,
-            crate::problem::cost::VISCOUS_SHARE,
-            t.viscous_dt_stable
-        );
-    } else {
-        println!(
-            "time-step factors: cfl = {}, viscous_dt = {}; the kernel's viscous term is stable on \
-             the perfect lattice up to viscous_dt = {:.4} (docs/timestep.md)",
-            fmt_value(t.cfl),
-            fmt_value(t.viscous_dt),
-            t.viscous_dt_stable
-        );
-    }
+    use crate::problem::cost::{
+        default_cfl, default_viscous_dt, CFL_DEFAULT_MAX, CFL_SHARE, VISCOUS_SHARE,
+    };
+    println!("time-step factors (docs/timestep.md):");
     println!(
-        "the kernel's pressure term is stable on the perfect lattice up to cfl = {:.4} (docs/timestep.md)",
-        t.cfl_stable
+        "  {}",
+        factor_in_use(
+            "cfl",
+            "pressure",
+            (t.cfl, t.cfl_stable),
+            (t.cfl == default_cfl(t.cfl_stable)).then(|| format!(
+                "{CFL_SHARE} of {:.4}, at most {CFL_DEFAULT_MAX}",
+                t.cfl_stable
+            )),
+        )
+    );
+    println!(
+        "  {}",
+        factor_in_use(
+            "viscous_dt",
+            "viscous",
+            (t.viscous_dt, t.viscous_dt_stable),
+            (t.viscous_dt == default_viscous_dt(t.viscous_dt_stable))
+                .then(|| format!("{VISCOUS_SHARE} of {:.4}", t.viscous_dt_stable)),
+        )
     );
     println!(
         "{:<24} {:>12} {:>10} {:>12} {:>8} {:>12} {:>12} {:>10}",
@@ -689,5 +693,24 @@ fn warn_factors(t: &crate::problem::c0::C0Table) {
     ];
     for w in warnings.into_iter().flatten() {
         eprintln!("{w}");
+    }
+}
+
+/// A time-step factor in use, for `c0`'s header: its value and the largest
+/// at which the kernel's `term` is stable on the perfect lattice, with how
+/// the default follows from it (`default`, e.g. "0.85 of 0.1866") where the
+/// factor is the default.
+fn factor_in_use(
+    name: &str,
+    term: &str,
+    (value, stable): (f64, f64),
+    default: Option<String>,
+) -> String {
+    let bound = format!(
+        "the kernel's {term} term is stable on the perfect lattice up to {name} = {stable:.4}"
+    );
+    match default {
+        Some(how) => format!("{name} = {value:.4}, the default ({how}): {bound}"),
+        None => format!("{name} = {} (given): {bound}", fmt_value(value)),
     }
 }

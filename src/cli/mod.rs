@@ -128,9 +128,10 @@ pub struct SceneArgs {
     /// lattice pulsation eps0 by more than this (default 0.01).
     #[arg(long)]
     pub eps_margin: Option<f64>,
-    /// Time-step factor of the CFL limit, dt <= CFL h / (c0 + |v|max) (0.5;
-    /// `c0` prints the largest the kernel's pressure term is stable at on
-    /// its lattice, 1.86 for Monaghan's kernel at h = d: docs/timestep.md).
+    /// Time-step factor of the CFL limit, dt <= CFL h / (c0 + |v|max)
+    /// (default half the largest factor the kernel's pressure term is
+    /// stable at on its lattice, at most 1: 0.93 for Monaghan's kernel at
+    /// h = d; `c0` prints both, docs/timestep.md).
     #[arg(long)]
     pub cfl: Option<f64>,
     /// Time-step factor of the viscous limit, dt <= F h^2 / nu (default

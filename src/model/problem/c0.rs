@@ -368,15 +368,11 @@ pub fn table(scene: &Scene) -> Result<C0Table, SceneError> {
         t_end,
         scene_c0: scene.c0.to_string(),
         scene_c0_error,
-        cfl: scene.cfl,
+        cfl: channel.dt_factors.cfl,
         cfl_stable: super::acoustic_stable_factor(
             info,
             &channel.lattice,
-            super::Eos::new(
-                scene.gamma,
-                scene.allow_negative_pressure,
-                scene.pressure_form,
-            ),
+            super::Eos::of_scene(scene),
         ),
         viscous_dt: channel.dt_factors.viscous,
         viscous_dt_stable: super::viscous_stable_factor(

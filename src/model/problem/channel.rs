@@ -158,7 +158,13 @@ impl Channel {
             re: flow.re(),
             flow,
             dt_factors: DtFactors {
-                cfl: scene.cfl,
+                cfl: scene.cfl.unwrap_or_else(|| {
+                    super::cost::default_cfl(super::acoustic_stable_factor(
+                        info,
+                        &lattice,
+                        super::Eos::of_scene(scene),
+                    ))
+                }),
                 viscous: scene.viscous_dt.unwrap_or_else(|| {
                     super::cost::default_viscous_dt(super::viscous_stable_factor(
                         info,

@@ -25,7 +25,7 @@ pub const EST_S_PER_PAIR_PASS: f64 = 10e-9;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DtLimit {
-    /// 0.5 h / (c0 + |v|max) (the factor: the scene's `cfl`).
+    /// cfl h / (c0 + |v|max) (the factor: the scene's `cfl`).
     Cfl,
     /// viscous_dt h^2 / nu (the factor: the scene's `viscous_dt`).
     Viscous,
@@ -113,6 +113,32 @@ pub fn default_viscous_dt(stable: f64) -> f64 {
         VISCOUS_SHARE * stable
     } else {
         crate::config::scene::FALLBACK_VISCOUS_DT
+    }
+}
+
+/// The share of the factor at which a kernel's pressure term is stable on
+/// the perfect lattice ([`super::acoustic_stable_factor`]) that the default
+/// CFL factor takes: half, 1.8-1.9x below the onset measured for Wendland
+/// C2 (0.9-0.97 of its factor) and 2x or more below the other kernels'
+/// (docs/timestep.md).
+pub const CFL_SHARE: f64 = 0.5;
+
+/// The largest default CFL factor: the largest at which the window's
+/// statistics were measured against 0.25's (3-8 % apart at 1.0 with 40
+/// seeds; docs/timestep.md). It binds Morris's kernel (derived 2.31).
+pub const CFL_DEFAULT_MAX: f64 = 1.0;
+
+/// The default CFL factor for a kernel and lattice whose pressure term is
+/// stable up to the factor `stable`: [`CFL_SHARE`] of it, at most
+/// [`CFL_DEFAULT_MAX`] (0.930 for Monaghan's kernel on the triangular
+/// lattice at h = d, 1 for Morris's, 0.51-0.86 for the composite kernel),
+/// or 0.5 ([`crate::config::scene::FALLBACK_CFL`]) where `stable` is not
+/// a positive finite number (unknown).
+pub fn default_cfl(stable: f64) -> f64 {
+    if stable > 0.0 && stable.is_finite() {
+        (CFL_SHARE * stable).min(CFL_DEFAULT_MAX)
+    } else {
+        crate::config::scene::FALLBACK_CFL
     }
 }
 

@@ -34,6 +34,15 @@ impl Eos {
         }
     }
 
+    /// The equation of state a scene's fields give.
+    pub fn of_scene(scene: &crate::config::Scene) -> Eos {
+        Eos::new(
+            scene.gamma,
+            scene.allow_negative_pressure,
+            scene.pressure_form,
+        )
+    }
+
     /// The pressure at rho = sigma rho0 (clamped at 0 unless negative
     /// pressures are allowed) and the slope dP / drho of a compression
     /// there, in units of rho0 = 1 and c0 = 1. Under the clamp, a lattice

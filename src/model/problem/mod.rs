@@ -548,7 +548,7 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
     // stable factors, which `c0` prints and `run` warns above (up to 2.31
     // for the CFL factor, Morris's kernel).
     for (field, v, hi) in [
-        ("cfl", Some(scene.cfl), 4.0),
+        ("cfl", scene.cfl, 4.0),
         ("viscous_dt", scene.viscous_dt, 1.0),
     ] {
         let Some(v) = v else { continue };
@@ -556,9 +556,9 @@ pub(crate) fn check_fields(scene: &Scene) -> Result<(), SceneError> {
             return Err(invalid(
                 field,
                 format!(
-                    "{} must be in (0, {hi}]: a time-step factor (cfl 0.5 by default, viscous_dt \
-                     0.85 of the kernel's stable factor; `c0` prints the largest each is stable \
-                     at, docs/timestep.md)",
+                    "{} must be in (0, {hi}]: a time-step factor (by default cfl half the \
+                     kernel's stable CFL factor, at most 1, and viscous_dt 0.85 of its stable \
+                     viscous factor; `c0` prints both, docs/timestep.md)",
                     fmt_value(v)
                 ),
             ));

@@ -91,7 +91,10 @@ pub(crate) fn cores() -> usize {
 /// The bench scene for a kernel: the steady profile (7) at Re = 10, c0 = 10
 /// U, the default alpha, h = d; N layers to be set. The end time plays no
 /// part (a fixed number of steps is taken); it is set short so that the
-/// scene's run-time bound never refuses a large N.
+/// scene's run-time bound never refuses a large N. Its CFL factor is fixed
+/// at [`BENCH_CFL`], not the kernel's default, so that a step is the same
+/// work in every build the bench compares (the factor sets how far the
+/// disordered scene's particles move between list rebuilds).
 pub fn scene(kernel: &str) -> Scene {
     Scene {
         kernel: kernel.to_string(),
@@ -100,9 +103,15 @@ pub fn scene(kernel: &str) -> Scene {
         c0: "rule10".parse().expect("a valid c0 rule"),
         initial: Initial::Steady,
         t_end: Some(1e-6),
+        cfl: Some(BENCH_CFL),
         ..Scene::builtin()
     }
 }
+
+/// The bench scenes' CFL factor: the default before the default became
+/// each kernel's own (docs/timestep.md), at which the bench's figures in
+/// docs/performance.md were measured.
+pub const BENCH_CFL: f64 = 0.5;
 
 /// The bench scene, or its disordered form's base
 /// ([`disordered::base_scene`]).

@@ -5,10 +5,11 @@
 # old, new, old, new ..., PAIRS pairs at each Re, each run's whole-process
 # wall and CPU seconds by /usr/bin/time; then summarise.py prints the table.
 #
-#   ab.sh OLD_BIN NEW_BIN OUT [PAIRS=3] [RES="1 10"]
+#   ab.sh OLD_BIN NEW_BIN OUT [PAIRS=3] [RES="1 10"] [OLD_LABEL NEW_LABEL]
 set -euo pipefail
 old=${1:?usage: ab.sh OLD_BIN NEW_BIN OUT [PAIRS] [RES]} new=${2:?} out=${3:?}
 pairs=${4:-3} res=${5:-1 10}
+labels=("${@:6:2}")
 mkdir -p "$out"
 for re in $res; do
   for i in $(seq "$pairs"); do
@@ -21,4 +22,4 @@ for re in $res; do
     done
   done
 done
-python3 "$(dirname "$0")/summarise.py" "$out"
+python3 "$(dirname "$0")/summarise.py" "$out" "${labels[@]}"

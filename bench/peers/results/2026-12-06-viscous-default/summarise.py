@@ -1,5 +1,7 @@
 """Summarise ab.sh's folder: per Re, each side's wall and CPU seconds, the
-old / new ratio pair by pair, the runs and steps, and the answer."""
+old / new ratio pair by pair, the runs and steps, and the answer.
+
+    summarise.py OUT [OLD_LABEL NEW_LABEL]   (labels: what each build's default is)"""
 import glob
 import json
 import os
@@ -7,6 +9,7 @@ import statistics
 import sys
 
 out = sys.argv[1]
+labels = sys.argv[2:4] if len(sys.argv) >= 4 else ["old (0.125)", "new (0.85 F*)"]
 
 
 def load(side, re):
@@ -44,7 +47,7 @@ res = sorted({os.path.basename(p).split("-")[1][2:] for p in glob.glob(f"{out}/*
 for re in res:
     old, new = load("old", re), load("new", re)
     print(f"Re = {re}")
-    for name, rows in (("old (0.125)", old), ("new (0.85 F*)", new)):
+    for name, rows in ((labels[0], old), (labels[1], new)):
         walls = [r[1] for r in rows]
         cpus = [r[2] for r in rows]
         print(f"  {name:14} wall {', '.join(f'{w:.2f}' for w in walls)} s (median {statistics.median(walls):.2f}); "
