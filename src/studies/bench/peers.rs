@@ -295,9 +295,9 @@ pub const PEER_MATCH_CFL: f64 = 0.5;
 
 /// One run of the SPHinXsys-matched scene to t nu / B^2 = `tau`. The solver
 /// runs whole steps whose dt follows the flow (c0 = 10 U: the CFL limit
-/// 0.25 h / (c0 + |v|max) binds, up to 10 % longer than at |v| = U), so a
-/// first run at the starting estimate's step count measures the mean dt and
-/// the timed run takes the steps that reach t_end at it.
+/// [`PEER_MATCH_CFL`] h / (c0 + |v|max) binds, up to 10 % longer than at
+/// |v| = U), so a first run at the starting estimate's step count measures
+/// the mean dt and the timed run takes the steps that reach t_end at it.
 pub fn sphinxsys_match(
     layers: u32,
     tau: f64,

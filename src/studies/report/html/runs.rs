@@ -36,7 +36,7 @@ pub(super) fn c0_by_rule(h: &mut String, d: &ReportData) {
     h.push_str("<h2 id=\"c0\">c0 by every rule, the time step it implies, and its run</h2>\n");
     let _ = writeln!(
         h,
-        "<p>At N = {}, alpha = {}; dt is the smallest of the CFL (0.5 h/(c0 + U)), viscous (F h²/ν, F the kernel's default: 0.85 of the largest factor at which its viscous term is stable on the lattice, docs/timestep.md) and force limits; the estimates take |v| = U and |a| = p. The run columns are the solver's.</p>",
+        "<p>At N = {}, alpha = {}; dt is the smallest of the CFL (C h/(c0 + U)), viscous (F h²/ν) and force limits, C and F the kernel's defaults: half the largest factor at which its pressure term is stable on the lattice, at most 1, and 0.85 of the largest at which its viscous term is (docs/timestep.md); the estimates take |v| = U and |a| = p. The run columns are the solver's.</p>",
         c.maps.n, c.maps.alpha
     );
     h.push_str("<table><tr><th class=\"l\">kernel</th><th>Re</th><th class=\"l\">rule</th><th>c0 / U</th><th>dt</th><th class=\"l\">limit</th><th>steps (est.)</th><th>particle-steps (est.)</th><th>class</th><th>mean-flow L_inf / U</th><th>eps_stat</th><th>wall s</th></tr>\n");
