@@ -80,6 +80,13 @@ pub struct Summary {
     /// The limit that bound the most steps (`dt_limit` in rows written
     /// before the two were told apart).
     pub dt_limit_dominant: Option<DtLimit>,
+    /// The time step's factors in use, the scene's or by default the
+    /// kernel's own (docs/timestep.md): dt <= cfl h / (c0 + |v|max),
+    /// viscous_dt h^2 / nu.
+    #[serde(with = "nan_null", default = "nan")]
+    pub cfl: f64,
+    #[serde(with = "nan_null", default = "nan")]
+    pub viscous_dt: f64,
     /// The sound speed (NaN when the rule gives none), its rule as resolved
     /// (`derived:field-av`, `rule10`, `value`) and c0 / U.
     #[serde(with = "nan_null", default = "nan")]
@@ -307,6 +314,8 @@ impl Summary {
             dt_max: r.dt.max.max(r.dt.last),
             dt_limit_steps: r.dt.steps,
             dt_limit_dominant: Some(r.dt.dominant()),
+            cfl: pr.dt_factors.cfl,
+            viscous_dt: pr.dt_factors.viscous,
             c0: pr.c0,
             c0_rule: pr.c0_rule.clone(),
             c0_over_u: pr.c0 / pr.flow.u,
