@@ -119,8 +119,8 @@ pub fn default_viscous_dt(stable: f64) -> f64 {
 /// The share of the factor at which a kernel's pressure term is stable on
 /// the perfect lattice ([`super::acoustic_stable_factor`]) that the default
 /// CFL factor takes: half, 1.8-1.9x below the onset measured for Wendland
-/// C2 (0.9-0.97 of its factor) and 2x or more below the other kernels'
-/// (docs/timestep.md).
+/// C2 (0.9-0.97 of its factor) and about 2x or more below the other
+/// kernels' (docs/timestep.md).
 pub const CFL_SHARE: f64 = 0.5;
 
 /// The largest default CFL factor: the largest at which the window's
