@@ -12,7 +12,7 @@
 //! `NeighbourList::set_disordered`): there the distance tests go either way.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use shearsph::bench::{layers_for, scene, sphinxsys_match_problem};
+use shearsph::bench::{layers_for, scene, sphinxsys_match_problem, PEER_MATCH_CFL};
 use shearsph::config::ViscousNormalisation;
 use shearsph::kernel::Kernel;
 use shearsph::kernels::{Monaghan, WendlandC2};
@@ -39,8 +39,14 @@ fn rebuild(c: &mut Criterion, label: &str, problem: &Problem) {
 }
 
 fn rebuilds(c: &mut Criterion) {
-    let matched = sphinxsys_match_problem(10, 1.0, Some(120), ViscousNormalisation::Lattice)
-        .expect("the matched scene");
+    let matched = sphinxsys_match_problem(
+        10,
+        1.0,
+        Some(120),
+        ViscousNormalisation::Lattice,
+        Some(PEER_MATCH_CFL),
+    )
+    .expect("the matched scene");
     rebuild(c, "sphinxsys_match", &matched);
     for particles in [10_000, 100_000] {
         let mut s = scene(WendlandC2::NAME);

@@ -272,6 +272,51 @@ fn sphinxsys_matched_scene_is_matched() {
     for key in ["wall_s", "particle_steps_per_s", "t", "linf_rel_err"] {
         positive(&r, key);
     }
+    // The CFL factor the peer figures were measured at, unless --cfl says
+    // otherwise; `default` is the kernel's own, the factor `c0` prints for
+    // the discretisation, and reaches TAU in fewer steps.
+    assert_eq!(r["cfl"].as_f64(), Some(0.5));
+    let own = json(&shearsph(&[
+        "bench",
+        "--sphinxsys-match",
+        "--layers",
+        "6",
+        "--tau",
+        "0.02",
+        "--threads",
+        "1",
+        "--columns",
+        "12",
+        "--cfl",
+        "default",
+    ]));
+    let c0 = json(&shearsph(&[
+        "c0",
+        "--kernel",
+        "wendland_c2",
+        "--lattice",
+        "square",
+        "--h-over-d",
+        "13/10",
+        "--json",
+    ]));
+    let cfl = own["cfl"].as_f64().unwrap();
+    assert_eq!(Some(cfl), c0["cfl"].as_f64());
+    assert!(cfl > 0.5, "{cfl}");
+    assert!(own["steps"].as_u64() < r["steps"].as_u64(), "{own} {r}");
+    // Its 8 steps reach TAU to within one step (measured 0.0207).
+    let (tau, steps) = (own["tau"].as_f64().unwrap(), own["steps"].as_u64().unwrap());
+    assert!(
+        (tau / 0.02 - 1.0).abs() < 1.0 / steps as f64,
+        "{tau} in {steps} steps"
+    );
+    // A factor outside (0, 4] or not a number is refused, naming the flag.
+    for bad in ["0", "5", "nan", "half"] {
+        let o = shearsph(&["bench", "--sphinxsys-match", "--cfl", bad]);
+        assert!(!o.status.success(), "--cfl {bad}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("--cfl"), "--cfl {bad}: {err}");
+    }
     // Too narrow a strip is refused.
     let o = shearsph(&[
         "bench",

@@ -82,6 +82,12 @@ pub struct BenchArgs {
     /// bench/peers/ACCURACY.md).
     #[arg(long, default_value = "none", requires = "sphinxsys_match")]
     pub viscous_normalisation: ViscousNormalisation,
+    /// With --sphinxsys-match: the CFL factor, a number or `default` (the
+    /// kernel's own, as `run` takes it: 0.898 here, which `c0 --kernel
+    /// wendland_c2 --lattice square --h-over-d 1.3` prints). Default 0.5,
+    /// the factor the peer figures in docs/performance.md were measured at.
+    #[arg(long, requires = "sphinxsys_match", value_parser = parse_cfl)]
+    pub cfl: Option<PeerCfl>,
     /// With --sphinxsys-match: the end time in units of B^2 / nu.
     #[arg(long, default_value_t = 1.0, requires = "sphinxsys_match")]
     pub tau: f64,
@@ -92,6 +98,34 @@ pub struct BenchArgs {
     /// at the same h / B).
     #[arg(long)]
     pub columns: Option<u32>,
+}
+
+/// `--cfl` of a matched scene: a factor, or the kernel's own default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PeerCfl {
+    Factor(f64),
+    KernelDefault,
+}
+
+impl PeerCfl {
+    /// The scene's `cfl` field: `None` leaves it to the kernel's default.
+    fn scene_field(arg: Option<PeerCfl>) -> Option<f64> {
+        match arg {
+            None => Some(bench::PEER_MATCH_CFL),
+            Some(PeerCfl::Factor(f)) => Some(f),
+            Some(PeerCfl::KernelDefault) => None,
+        }
+    }
+}
+
+fn parse_cfl(s: &str) -> Result<PeerCfl, String> {
+    if s.trim() == "default" {
+        return Ok(PeerCfl::KernelDefault);
+    }
+    s.trim()
+        .parse()
+        .map(PeerCfl::Factor)
+        .map_err(|_| format!("{s:?} is neither a number nor `default`"))
 }
 
 fn parse_count(s: &str) -> Result<usize, String> {
@@ -199,6 +233,7 @@ pub fn main(args: BenchArgs) -> Result<ExitCode> {
             threads,
             args.columns,
             args.viscous_normalisation,
+            PeerCfl::scene_field(args.cfl),
         )?;
         println!("{}", serde_json::to_string(&run)?);
         return Ok(ExitCode::SUCCESS);

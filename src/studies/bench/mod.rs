@@ -31,7 +31,7 @@ pub use empirical::{empirical, empirical_table, EmpiricalBench, EMPIRICAL_RE};
 pub use machine::{stream_gbs, Machine};
 pub use peers::{
     pysph_match, pysph_match_problem, sphinxsys_match, sphinxsys_match_problem, PeerRun,
-    PYSPH_MATCH_LAYERS, SPHINXSYS_MATCH_RE,
+    PEER_MATCH_CFL, PYSPH_MATCH_LAYERS, SPHINXSYS_MATCH_RE,
 };
 pub use table::table;
 

@@ -32,6 +32,8 @@ pub struct PeerRun {
     pub n_fluid: usize,
     pub n_wall: usize,
     pub steps: u64,
+    /// The CFL factor of the run's time step, dt <= cfl h / (c0 + |v|max).
+    pub cfl: f64,
     pub threads: usize,
     /// Wall-clock seconds of the steps alone.
     pub wall_s: f64,
@@ -208,12 +210,15 @@ pub fn pysph_match(
 /// t nu / B^2 = `tau`, on a strip of `columns` columns (default: the
 /// narrowest the kernel allows), with the viscous term scaled by `viscous`
 /// (`lattice`: shearsph's correction of the lattice's viscous deficit, as
-/// SPHinXsys corrects its kernel gradients).
+/// SPHinXsys corrects its kernel gradients), at the CFL factor `cfl`
+/// ([`PEER_MATCH_CFL`] for the figures measured so; `None`: the kernel's
+/// own default, as a run takes it).
 pub fn sphinxsys_match_problem(
     layers: u32,
     tau: f64,
     columns: Option<u32>,
     viscous: ViscousNormalisation,
+    cfl: Option<f64>,
 ) -> Result<Problem> {
     if !(tau > 0.0 && tau.is_finite()) {
         bail!(
@@ -235,7 +240,7 @@ pub fn sphinxsys_match_problem(
         viscous_normalisation: viscous,
         t_end: Some(1.0),
         viscous_dt: Some(SPHINXSYS_MATCH_VISCOUS_DT),
-        cfl: Some(PEER_MATCH_CFL),
+        cfl,
         ..Scene::builtin()
     };
     let info = scene.kernel_info()?;
@@ -295,17 +300,18 @@ pub const PEER_MATCH_CFL: f64 = 0.5;
 
 /// One run of the SPHinXsys-matched scene to t nu / B^2 = `tau`. The solver
 /// runs whole steps whose dt follows the flow (c0 = 10 U: the CFL limit
-/// [`PEER_MATCH_CFL`] h / (c0 + |v|max) binds, up to 10 % longer than at
-/// |v| = U), so a first run at the starting estimate's step count measures
-/// the mean dt and the timed run takes the steps that reach t_end at it.
+/// cfl h / (c0 + |v|max) binds, up to 10 % longer than at |v| = U), so a
+/// first run at the starting estimate's step count measures the mean dt
+/// and the timed run takes the steps that reach t_end at it.
 pub fn sphinxsys_match(
     layers: u32,
     tau: f64,
     threads: usize,
     columns: Option<u32>,
     viscous: ViscousNormalisation,
+    cfl: Option<f64>,
 ) -> Result<PeerRun> {
-    let problem = sphinxsys_match_problem(layers, tau, columns, viscous)?;
+    let problem = sphinxsys_match_problem(layers, tau, columns, viscous, cfl)?;
     let est = crate::problem::cost::Estimate::new(&problem.channel(), problem.c0, problem.t_end);
     let first = (est.steps as u64).max(1);
     let (probe, _) = measure(&problem, None, first, threads)?;
@@ -343,6 +349,7 @@ fn run_matched(
         n_fluid: r.n_fluid,
         n_wall: r.n_wall,
         steps: r.steps,
+        cfl: problem.dt_factors.cfl,
         threads,
         wall_s: r.wall_s,
         particle_steps_per_s: particles as f64 * r.steps as f64 / r.wall_s,
