@@ -296,6 +296,7 @@ pub const SPHINXSYS_MATCH_VISCOUS_DT: f64 = 0.125;
 /// below the default half of each kernel's stable factor (0.898 for
 /// Wendland C2 on the square lattice at 13/10, 1 for Morris's kernel; a
 /// larger factor takes fewer steps per unit of physical time).
+/// `bench --sphinxsys-match --cfl` sets another, or the kernel's own.
 pub const PEER_MATCH_CFL: f64 = 0.5;
 
 /// One run of the SPHinXsys-matched scene to t nu / B^2 = `tau`. The solver
