@@ -243,18 +243,23 @@ fn sphinxsys_matched_scene_is_matched() {
     // The keys bench/peers/sphinxsys_poiseuille.sh reads, and the scene its
     // header fixes: Wendland C2, square lattice, h = 13/10 d, U B / nu = 7.5,
     // c0 = 10 U, B = N d, to t nu / B^2 = TAU on a strip of --columns.
-    let r = json(&shearsph(&[
-        "bench",
-        "--sphinxsys-match",
-        "--layers",
-        "6",
-        "--tau",
-        "0.02",
-        "--threads",
-        "1",
-        "--columns",
-        "12",
-    ]));
+    let matched = |more: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--sphinxsys-match",
+            "--layers",
+            "6",
+            "--tau",
+            "0.02",
+            "--threads",
+            "1",
+            "--columns",
+            "12",
+        ];
+        args.extend_from_slice(more);
+        json(&shearsph(&args))
+    };
+    let r = matched(&[]);
     assert!(r["code"].as_str().unwrap().starts_with("shearsph"));
     assert_eq!(r["discretisation"].as_str(), Some("square, h = 13/10 d"));
     assert_eq!(r["layers"].as_u64(), Some(6));
@@ -276,20 +281,7 @@ fn sphinxsys_matched_scene_is_matched() {
     // otherwise; `default` is the kernel's own, the factor `c0` prints for
     // the discretisation, and reaches TAU in fewer steps.
     assert_eq!(r["cfl"].as_f64(), Some(0.5));
-    let own = json(&shearsph(&[
-        "bench",
-        "--sphinxsys-match",
-        "--layers",
-        "6",
-        "--tau",
-        "0.02",
-        "--threads",
-        "1",
-        "--columns",
-        "12",
-        "--cfl",
-        "default",
-    ]));
+    let own = matched(&["--cfl", "default"]);
     let c0 = json(&shearsph(&[
         "c0",
         "--kernel",
