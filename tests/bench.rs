@@ -302,8 +302,9 @@ fn sphinxsys_matched_scene_is_matched() {
         (tau / 0.02 - 1.0).abs() < 1.0 / steps as f64,
         "{tau} in {steps} steps"
     );
-    // A factor outside (0, 4] or not a number is refused, naming the flag.
-    for bad in ["0", "5", "nan", "half"] {
+    // A factor outside (0, 4], not a number, or so small that the run
+    // would outlast its bound is refused, naming the flag.
+    for bad in ["0", "5", "nan", "half", "1e-300"] {
         let o = shearsph(&["bench", "--sphinxsys-match", "--cfl", bad]);
         assert!(!o.status.success(), "--cfl {bad}");
         let err = String::from_utf8_lossy(&o.stderr);

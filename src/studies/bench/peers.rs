@@ -244,19 +244,32 @@ pub fn sphinxsys_match_problem(
         ..Scene::builtin()
     };
     let info = scene.kernel_info()?;
-    let mut probe = Problem::resolve(&scene, info)?;
-    let b = probe.flow.b;
-    let t_end = tau * b * b / probe.flow.nu;
+    // The flow's scales first, at the pinned factor (they do not depend on
+    // it; the user's factor is checked with the end time below).
+    let flow = Problem::resolve(
+        &Scene {
+            cfl: Some(PEER_MATCH_CFL),
+            ..scene.clone()
+        },
+        info,
+    )?
+    .flow;
+    let t_end = tau * flow.b * flow.b / flow.nu;
     let scene = Scene {
         t_end: Some(t_end),
         ..scene
     };
-    // The end time is --tau's: a run too long for the scene's bound is
-    // refused naming it (the scene's own fields are not the user's here).
-    probe = Problem::resolve(&scene, info).map_err(|e| match e.field() {
+    // The end time is --tau's and the step --cfl's: a run too long for the
+    // scene's bound is refused naming them (the scene's own fields are not
+    // the user's here).
+    let mut probe = Problem::resolve(&scene, info).map_err(|e| match e.field() {
         Some("t_end" | "max_run_s" | "output_interval") => {
+            let factor = match cfl {
+                Some(f) => crate::format::fmt_value(f),
+                None => "default".into(),
+            };
             anyhow::anyhow!(
-                "--tau {} (t_end = tau B^2 / nu = {} here): {e}",
+                "--tau {} at --cfl {factor} (t_end = tau B^2 / nu = {} here): {e}",
                 crate::format::fmt_value(tau),
                 crate::format::fmt_value(t_end)
             )
