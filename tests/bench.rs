@@ -2,7 +2,7 @@
 //! configuration, and the scene matched to PySPH's example. No timing is
 //! asserted: these only check that every figure is there and sane.
 
-mod common;
+use crate::common;
 use common::*;
 
 use std::process::Output;

@@ -4,7 +4,7 @@
 //! field and where it came from), and a property test over the count
 //! flags.
 
-mod common;
+use crate::common;
 use common::*;
 
 use std::path::Path;

@@ -5,7 +5,7 @@
 //! brute-force count apart from the solver's code and against runs
 //! (docs/timestep.md).
 
-mod common;
+use crate::common;
 use common::brute::Sites;
 
 use shearsph::config::{PressureForm, Scene};

@@ -3,7 +3,7 @@
 //! test per kind), a failed run naming its particle, Ctrl-C keeping the
 //! outputs so far.
 
-mod common;
+use crate::common;
 use common::*;
 
 use std::io::{BufRead, BufReader, Read};

@@ -1,7 +1,7 @@
 //! `shearsph kernels` prints every generated kernel, as a table and as JSON,
 //! with the generated constants.
 
-mod common;
+use crate::common;
 use common::*;
 
 use shearsph::kernels::KERNELS;

@@ -2,7 +2,7 @@
 //! lost. One test per class of input, each asserting what the message says,
 //! and a property test over every numeric scene field.
 
-mod common;
+use crate::common;
 use common::*;
 
 use std::process::{Command, Output};

@@ -6,7 +6,7 @@
 //! Jacobian against the pressure term linearised by hand is a unit test in
 //! src/model/solver/tangent.rs.
 
-mod common;
+use crate::common;
 use common::*;
 
 use shearsph::config::Scene;

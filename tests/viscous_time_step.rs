@@ -4,7 +4,7 @@
 //! (`LatticeGeometry::viscous_stable_factor`), and the default F kept
 //! below it (docs/timestep.md).
 
-mod common;
+use crate::common;
 use common::brute::Sites;
 
 use shearsph::config::Scene;

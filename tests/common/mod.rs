@@ -1,6 +1,6 @@
 //! What the integration tests share: the binary under test and its output
-//! as text. Each test file includes it with `mod common;` and uses what it
-//! needs.
+//! as text. tests/integration.rs declares it, and each test file that
+//! needs it takes it with `use crate::common;`.
 #![allow(dead_code)]
 
 use std::process::{Command, Output};
