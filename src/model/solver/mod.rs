@@ -192,8 +192,9 @@ struct Sim<'p> {
     /// ([`band_layers`]).
     band_layers: usize,
     /// The time since the last rebuild, and the Lipschitz constant of
-    /// that rebuild's shear reference ([`State::shear_reference`]; 0 for
-    /// a fluid that keeps its lattice's order): the rebuild rule bounds
+    /// that rebuild's shear reference ([`State::shear_reference`]; 0
+    /// without one: the list a run starts with, a fluid at rest, a run
+    /// that keeps its start's order): the rebuild rule bounds
     /// displacements from the reference ([`Reach`]).
     since_rebuild: f64,
     shear_rate: f64,
@@ -202,8 +203,9 @@ struct Sim<'p> {
     /// positions it listed ([`State::ahead`]).
     ahead: f64,
     x_ahead: Vec<f64>,
-    /// Whether a rebuild of a disordered fluid takes a shear reference:
-    /// always, except in the test that measures what it saves.
+    /// Whether a rebuild takes a shear reference, a lattice's as a
+    /// disordered fluid's: always, except in the test that measures what
+    /// it saves.
     use_reference: bool,
     /// The force pass's tiles along x ([`step::FORCE_TILE`]): that, except
     /// in the test that checks they change no bit.
@@ -400,18 +402,19 @@ impl<'p> Sim<'p> {
                     self.s
                         .reorder(low, lat.dy, self.band_layers, self.block, &mut self.order);
                 // Particles that moved in storage have left their lattice:
-                // the list is built in its disordered form (the same list),
-                // and the rule bounds displacements from the shear of the
-                // bands (a lattice keeps the rule it had: its bits).
+                // the list is built in its disordered form (the same list).
+                // The rule bounds displacements from the shear of the bands
+                // either way: a lattice's bands are its layers, whose shear
+                // it follows as closely as a disordered fluid's.
                 self.list.set_disordered(moved);
-                self.shear_rate = if moved && self.use_reference {
+                self.shear_rate = if self.use_reference {
                     self.s.shear_reference(low, lat.dy, lat.b())
                 } else {
                     self.s.u_ref.fill(0.0);
                     0.0
                 };
             }
-            // A disordered fluid is listed ahead along its reference.
+            // A fluid with a reference is listed ahead along it.
             self.ahead = list_ahead(self.cutoff, self.skin, self.shear_rate);
             let x = if self.ahead > 0.0 {
                 self.s.ahead(self.ahead, lat.width, &mut self.x_ahead);

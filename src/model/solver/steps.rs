@@ -631,64 +631,89 @@ mod reorder_tests {
         assert!(moved > 0 && moved < nf, "some wrapped: {moved}");
     }
 
-    /// A disordered fluid's list lives on the shear of its bands
-    /// ([`State::shear_reference`], [`crate::solver::neighbours::Reach`]),
-    /// built ahead along it ([`super::super::list_ahead`]): Monaghan's
-    /// kernel at N = 6, Re = 10, jittered by 0.3 d, disorders by t = 60;
-    /// at every step to t = 100 every pair within R h is listed; at every
-    /// rebuild the reference's speeds part no two particles (the walls' 0
-    /// included) faster than its Lipschitz constant says; and the list is
-    /// rebuilt less often than when it bounds the displacements themselves
-    /// (no reference taken, the list built where the fluid is).
-    #[test]
-    fn a_list_on_the_shear_reference_misses_no_pair_and_lives_longer() {
+    /// Monaghan's kernel at N = 6, Re = 10, jittered by `jitter` d, run
+    /// to t = 100 with the shear reference taken at each rebuild or not:
+    /// at every step every pair within R h is listed; at every rebuild the
+    /// reference's speeds part no two particles (the walls' 0 included)
+    /// faster than its Lipschitz constant says. Returns the rebuilds (the
+    /// list the run starts with not counted), how many of them took a
+    /// reference, and how many of those found the lattice in its order
+    /// (its list built in the lattice's form).
+    fn on_the_shear_reference(jitter: f64, reference: bool) -> (u64, usize, usize) {
         use crate::kernels::Monaghan;
         let scene = Scene {
             kernel: "monaghan".into(),
             n_layers: 6,
             re: Some(10.0),
             c0: "rule10".parse().expect("a rule"),
-            jitter: 0.3,
+            jitter,
             jitter_seed: 1,
             eps_limit: 0.5,
             ..Scene::builtin()
         };
         let problem = Problem::resolve(&scene, Monaghan::INFO).expect("the scene");
         let b = problem.lattice.b();
-        let rebuilds = |reference: bool| {
-            rayon::scope(|_| {
-                let mut sim = Sim::new::<Monaghan>(&problem);
-                sim.use_reference = reference;
-                let (mut t, mut referenced, mut before) = (0.0, 0, sim.list.rebuilds);
-                while t < 100.0 {
-                    let dt = sim.time_step().dt;
-                    let check = sim.advance::<Monaghan>(dt);
-                    assert!(sim.failure(&check).is_none(), "no failure");
-                    t += dt;
-                    if sim.list.rebuilds > before {
-                        before = sim.list.rebuilds;
-                        let (s, rate) = (&sim.s, sim.shear_rate);
-                        referenced += usize::from(rate > 0.0);
-                        // Each fluid particle against every other and
-                        // against a wall at either plane (u = 0).
-                        let walls = [(-b, 0.0), (b, 0.0)];
-                        let fluid = s.y0.iter().copied().zip(s.u_ref.iter().copied());
-                        let all: Vec<(f64, f64)> = fluid.chain(walls).collect();
-                        for &(ya, ua) in &all {
-                            for &(yb, ub) in &all {
-                                let bound = rate * (ya - yb).abs() * (1.0 + 1e-12) + 1e-15;
-                                assert!((ua - ub).abs() <= bound, "parted faster at t = {t}");
-                            }
+        rayon::scope(|_| {
+            let mut sim = Sim::new::<Monaghan>(&problem);
+            sim.use_reference = reference;
+            let (mut t, mut referenced, mut ordered) = (0.0, 0, 0);
+            let first = sim.list.rebuilds;
+            let mut before = first;
+            while t < 100.0 {
+                let dt = sim.time_step().dt;
+                let check = sim.advance::<Monaghan>(dt);
+                assert!(sim.failure(&check).is_none(), "no failure");
+                t += dt;
+                if sim.list.rebuilds > before {
+                    before = sim.list.rebuilds;
+                    let (s, rate) = (&sim.s, sim.shear_rate);
+                    referenced += usize::from(rate > 0.0);
+                    ordered += usize::from(rate > 0.0 && !sim.list.disordered());
+                    // Each fluid particle against every other and
+                    // against a wall at either plane (u = 0).
+                    let walls = [(-b, 0.0), (b, 0.0)];
+                    let fluid = s.y0.iter().copied().zip(s.u_ref.iter().copied());
+                    let all: Vec<(f64, f64)> = fluid.chain(walls).collect();
+                    for &(ya, ua) in &all {
+                        for &(yb, ub) in &all {
+                            let bound = rate * (ya - yb).abs() * (1.0 + 1e-12) + 1e-15;
+                            assert!((ua - ub).abs() <= bound, "parted faster at t = {t}");
                         }
                     }
-                    assert_eq!(missed_pairs(&sim), 0, "a pair missed at t = {t}");
                 }
-                (sim.list.rebuilds, referenced)
-            })
-        };
-        let (with, referenced) = rebuilds(true);
-        let (without, _) = rebuilds(false);
+                assert_eq!(missed_pairs(&sim), 0, "a pair missed at t = {t}");
+            }
+            (sim.list.rebuilds - first, referenced, ordered)
+        })
+    }
+
+    /// A disordered fluid's list lives on the shear of its bands
+    /// ([`State::shear_reference`], [`crate::solver::neighbours::Reach`]),
+    /// built ahead along it ([`super::super::list_ahead`]): jittered by
+    /// 0.3 d, the fluid disorders by t = 60; it misses no pair
+    /// ([`on_the_shear_reference`]) and is rebuilt less often than when
+    /// the rule bounds the displacements themselves (no reference taken,
+    /// the list built where the fluid is).
+    #[test]
+    fn a_list_on_the_shear_reference_misses_no_pair_and_lives_longer() {
+        let (with, referenced, _) = on_the_shear_reference(0.3, true);
+        let (without, _, _) = on_the_shear_reference(0.3, false);
         assert!(referenced > 20, "the disordered lists had a reference");
+        assert!(with < without, "{with} rebuilds against {without}");
+    }
+
+    /// A lattice that keeps its order lists on the shear of its layers as
+    /// a disordered fluid does on its bands': the perfect lattice, from
+    /// rest to t = 100, takes the reference at every rebuild and keeps its
+    /// order at each, misses no pair, and is rebuilt less often than
+    /// without the reference.
+    #[test]
+    fn a_lattice_that_keeps_its_order_lists_on_its_shear_reference_too() {
+        let (with, referenced, ordered) = on_the_shear_reference(0.0, true);
+        let (without, _, _) = on_the_shear_reference(0.0, false);
+        assert!(with > 20, "{with} rebuilds");
+        assert_eq!(referenced as u64, with, "every rebuild took a reference");
+        assert_eq!(ordered, referenced, "the lattice kept its order");
         assert!(with < without, "{with} rebuilds against {without}");
     }
 

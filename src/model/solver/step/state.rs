@@ -29,8 +29,9 @@ pub(crate) struct State {
     pub y0: Vec<f64>,
     /// Each fluid particle's speed along x in the shear reference of the
     /// last rebuild ([`Self::shear_reference`]): the rebuild rule bounds
-    /// displacements from x0 + u_ref t, not from x0. 0 for a fluid that
-    /// keeps its lattice's order.
+    /// displacements from x0 + u_ref t, not from x0. 0 where no rebuild
+    /// took a reference (the list a run starts with, a run that keeps its
+    /// start's order).
     pub u_ref: Vec<f64>,
     /// Layer each particle started in.
     pub layer: Vec<i32>,
