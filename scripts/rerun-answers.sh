@@ -2,6 +2,9 @@
 # Rerun every measured answer docs/answer.md holds, into OUT (a new dated
 # folder beside the others in docs/answer/), with the commands the docs give:
 #   OUT/monaghan-n10-re{1,10}.txt   c0 --kernel monaghan --n 10 --re R --empirical
+#   OUT/monaghan-n10-re1-tolerance.txt   the same at Re = 1 with --tolerance 0.01
+#                                   (the c0 the disordered law gives a density
+#                                   tolerance alone, docs/answer.md)
 #   OUT/kernels/K-L.txt             c0 --kernel K --lattice L --h-over-d 1 --n 10
 #                                      --re 1 --empirical --no-rules --quiet
 #                                   (every kernel on both lattices)
@@ -28,6 +31,8 @@ run() {
 for re in 1 10; do
   run "$out/monaghan-n10-re$re" c0 --kernel monaghan --n 10 --re "$re" --empirical --quiet
 done
+run "$out/monaghan-n10-re1-tolerance" c0 --kernel monaghan --n 10 --re 1 --empirical \
+  --tolerance 0.01 --quiet
 for k in composite monaghan morris wendland_c2; do
   for lattice in triangular square; do
     run "$out/kernels/$k-$lattice" c0 --kernel "$k" --lattice "$lattice" --h-over-d 1 \
