@@ -61,6 +61,8 @@ impl Isa {
         }
     }
 
+    /// The widest set this CPU runs: AVX-512 (F, DQ, VL), else AVX2 with
+    /// FMA, else the baseline.
     pub(crate) fn detect() -> Isa {
         #[cfg(target_arch = "x86_64")]
         {
@@ -70,7 +72,9 @@ impl Isa {
             {
                 return Isa::Avx512;
             }
-            if std::arch::is_x86_feature_detected!("avx2") {
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+            {
                 return Isa::Avx2;
             }
         }
