@@ -12,10 +12,9 @@
 //! 5. the checks for blow-up, every step.
 
 /// Defines `$on(isa, args..)`: `$inner(args..)` compiled for the instruction
-/// set `isa` (AVX-512, AVX2 or the baseline; the first two with FMA), each
-/// a `#[target_feature]` copy of the same `#[inline(always)]` body, so the
-/// results are the same bits on every CPU (a `mul_add` is one rounding on
-/// every set); the pair loops ([`step`]) and the list build's
+/// set `isa` (AVX-512, AVX2 or the baseline), each a `#[target_feature]`
+/// copy of the same `#[inline(always)]` body, so the results are the same
+/// bits on every CPU; the pair loops ([`step`]) and the list build's
 /// loops in lanes ([`neighbours`]) use it. One of the two places the
 /// solver meets `unsafe`: calling a target-feature function is sound
 /// because [`step::Isa::detect`] found the features before any `Isa`
@@ -32,12 +31,12 @@ macro_rules! on_isa {
         #[inline(always)]
         $vis fn $on<$($gen)*>(isa: $crate::solver::step::Isa, $($arg: $ty),*) $(-> $ret)? {
             #[cfg(target_arch = "x86_64")]
-            #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
+            #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
             unsafe fn avx512<$($gen)*>($($arg: $ty),*) $(-> $ret)? {
                 $inner::<$($targs)*>($($arg),*)
             }
             #[cfg(target_arch = "x86_64")]
-            #[target_feature(enable = "avx2,fma")]
+            #[target_feature(enable = "avx2")]
             unsafe fn avx2<$($gen)*>($($arg: $ty),*) $(-> $ret)? {
                 $inner::<$($targs)*>($($arg),*)
             }
@@ -107,16 +106,6 @@ pub fn force_flops_per_pair(problem: &Problem) -> u32 {
         0
     };
     av + mirror
-}
-
-/// Of [`force_flops_per_pair`], the products the force pass fuses with a
-/// sum (one FMA instruction for two flops).
-pub fn force_fmas_per_pair(problem: &Problem) -> u32 {
-    if problem.has_artificial_viscosity() {
-        step::FORCE_PAIR_FMAS_AV
-    } else {
-        step::FORCE_PAIR_FMAS
-    }
 }
 
 /// Nanoseconds per evaluation of kernel `K`'s (W, (dW/dq)/q) alone on one

@@ -16,13 +16,11 @@ pub struct Machine {
     /// nominal clock on a virtual machine, no turbo.
     pub ghz: f64,
     /// The vector instructions of the pair loops (chosen at run time), and
-    /// the double-precision operations per cycle and core they allow: lanes
-    /// x 2 (two FP ports on current x86 cores). Rust never fuses a * b + c:
-    /// only the force pass writes `mul_add` (with artificial viscosity, 16
-    /// of its 31 flops a lane as 8 FMA instructions), and its bound counts
-    /// an FMA as one operation. On AMD's Zen 4, which runs a 512-bit
-    /// operation on 256-bit pipes, the same 16 for AVX-512: 4 lanes x 4
-    /// pipes (two multiply, two add).
+    /// the double-precision flops per cycle and core they allow: lanes x 2
+    /// (two FP ports on current x86 cores), no FMA (Rust never fuses a * b +
+    /// c, and the solver writes no mul_add). On AMD's Zen 4, which runs a
+    /// 512-bit operation on 256-bit pipes, the same 16 for AVX-512: 4 lanes
+    /// x 4 pipes (two multiply, two add).
     pub isa_in_use: String,
     pub flops_per_cycle_in_use: f64,
     /// cores x GHz x flops/cycle for the instruction set in use.
@@ -84,12 +82,9 @@ impl Machine {
         let (name, lanes) = solver::pair_loop_isa();
         let in_use = 2.0 * f64::from(lanes);
         let isa_in_use = if half_width && lanes == 8 {
-            format!(
-                "{name} on 256-bit pipes (4 lanes x 2 multiply + 2 add pipes; FMA only in the force \
-                 pass, one operation)"
-            )
+            format!("{name} on 256-bit pipes (4 lanes x 2 multiply + 2 add pipes, no FMA)")
         } else {
-            format!("{name} ({lanes} lanes x 2 ports; FMA only in the force pass, one operation)")
+            format!("{name} ({lanes} lanes x 2 ports, no FMA)")
         };
         let (isa_best, best) = best_isa(has("avx512f"), has("avx"), has("fma"), half_width);
         let cores = cores();

@@ -223,9 +223,8 @@ pub struct Row {
     pub kernel_pass_ns: f64,
     pub kernel_alone_ns: f64,
     /// The force pass's core-nanoseconds per lane it runs (LANES per
-    /// window, listed or not), the bound its arithmetic per lane sets at the
-    /// peak in use (one core; its flops, a fused multiply-add one operation
-    /// for two flops), and the share of its lanes that are listed pairs.
+    /// window, listed or not), the bound its flops per lane set at the peak
+    /// in use (one core), and the share of its lanes that are listed pairs.
     pub forces_ns_per_lane: f64,
     pub forces_lane_bound_ns: f64,
     pub lane_use: f64,
@@ -467,13 +466,9 @@ pub fn run(opts: &Options, mut progress: impl FnMut(&str)) -> Result<Report> {
                 let core_ns_per = |pass: usize, per_step: usize| {
                     r.pass_s[pass] * cores_used / (per_step as f64 * taken) * 1e9
                 };
-                // The force pass's arithmetic instructions a lane: its
-                // flops, an FMA one instruction for two.
-                let force_ops = f64::from(
-                    solver::force_flops_per_pair(&problem) - solver::force_fmas_per_pair(&problem),
-                );
+                let force_flops = f64::from(solver::force_flops_per_pair(&problem));
                 let forces_lane_bound_ns =
-                    force_ops / (machine.flops_per_cycle_in_use * machine.ghz);
+                    force_flops / (machine.flops_per_cycle_in_use * machine.ghz);
                 let floor_kernel = r.own_pairs as f64 * kernel_alone_ns;
                 let floor_forces = r.fluid_window_lanes as f64 * forces_lane_bound_ns;
                 rows.push(Row {

@@ -127,9 +127,8 @@ pub fn table(r: &Report) -> String {
         "\npass by pass (timed inside the solver, the last repeat): each pass's share of the step; \
          the kernel\npass's core-ns per pair evaluated against the kernel alone in lanes with its \
          values in the first-level\ncache (ratio near 1: bound by the kernel's own square root and \
-         division, not by memory); the force\npass's core-ns per lane run against the bound its arithmetic \
-         (an FMA one operation) sets at the peak in use, and its lanes'\nshare that are listed \
-         pairs; the share of the \
+         division, not by memory); the force\npass's core-ns per lane run against the bound its flops \
+         set at the peak in use, and its lanes' share\nthat are listed pairs; the share of the \
          step spent rebuilding the neighbour list (list%, with its rebuilds); where the force \
          pass\nread (dW/dq)/q (g: a window-lane table, or gathered from the pairs' table); the \
          f64 lanes of the vectors the\nkernel pass, the sums and the force pass ran with, as \

@@ -46,13 +46,6 @@ pub(crate) const FORCE_PAIR_FLOPS_AV: u32 = FORCE_PAIR_FLOPS + 13;
 /// Mirrored walls add the factor beta: a product, a min and a sum (3), and
 /// its product with the viscous scale (1).
 pub(crate) const FORCE_PAIR_FLOPS_MIRROR: u32 = 4;
-/// Of those, the products fused with the sum that follows them (one FMA
-/// instruction for two flops, [`pair_forces`]): each component's pressure
-/// and Laplacian terms, and its term times (dW/dq)/q into its accumulator
-/// (4); with artificial viscosity also r^2, v_ij . r_ij and the viscous
-/// term added to each component (4).
-pub(crate) const FORCE_PAIR_FMAS: u32 = 4;
-pub(crate) const FORCE_PAIR_FMAS_AV: u32 = FORCE_PAIR_FMAS + 4;
 
 /// The particle-level factors of the force terms.
 #[derive(Clone, Copy)]
@@ -121,11 +114,7 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 /// the window-lane table, or (`GATHER`, [`WindowG::Gather`]) gathered from
 /// the pair table: the same values either way. Each lane's term is added
 /// into its lane's accumulator, without branches or bounds checks in the
-/// lanes. Each product that a sum follows is fused with it (`mul_add`, one
-/// rounding): an FMA instruction under AVX2 and AVX-512 (which the
-/// instruction sets' functions are compiled with), the C library's
-/// correctly rounded `fma` on the baseline: the same bits on every set.
-/// A lane not listed has g = 0 and adds 0: its terms are finite
+/// lanes. A lane not listed has g = 0 and adds 0: its terms are finite
 /// for a finite state (the artificial viscosity's r^2 has a floor). A
 /// state that is not finite fails the run at this step anyway
 /// ([`Forces::finite`]).
@@ -207,20 +196,20 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool
                 let ratio = depthw[l] * scales.inv_gap;
                 lv *= 1.0 + if ratio < beta_cap { ratio } else { beta_cap };
             }
-            let (mut fx, mut fy) = (lv.mul_add(dvx, -(p * dx)), lv.mul_add(dvy, -(p * dy)));
+            let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
             if AV {
                 // Only approaching pairs (v_ij . r_ij < 0), branch-free.
-                let r2 = dx.mul_add(dx, dy * dy);
-                let vr = dvx.mul_add(dx, dvy * dy);
+                let r2 = dx * dx + dy * dy;
+                let vr = dvx * dx + dvy * dy;
                 // r^2 > 0 for every listed pair; the floor keeps the term
                 // 0, not NaN, in a lane that is not listed and holds i
                 // itself (g = 0 there).
                 let a = scales.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
-                fx = a.mul_add(dx, fx);
-                fy = a.mul_add(dy, fy);
+                fx += a * dx;
+                fy += a * dy;
             }
-            acc_x[l] = fx.mul_add(g, acc_x[l]);
-            acc_y[l] = fy.mul_add(g, acc_y[l]);
+            acc_x[l] += fx * g;
+            acc_y[l] += fy * g;
         }
     }
     (lane_sum(acc_x), lane_sum(acc_y))

@@ -61,8 +61,6 @@ impl Isa {
         }
     }
 
-    /// The widest set this CPU runs: AVX-512 (F, DQ, VL), else AVX2 with
-    /// FMA, else the baseline.
     pub(crate) fn detect() -> Isa {
         #[cfg(target_arch = "x86_64")]
         {
@@ -72,9 +70,7 @@ impl Isa {
             {
                 return Isa::Avx512;
             }
-            if std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-            {
+            if std::arch::is_x86_feature_detected!("avx2") {
                 return Isa::Avx2;
             }
         }

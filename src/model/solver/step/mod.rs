@@ -18,7 +18,7 @@ pub(crate) use density::{
 };
 pub(crate) use forces::{
     forces, forces_in_tiles, Forces, FORCE_PAIR_FLOPS, FORCE_PAIR_FLOPS_AV,
-    FORCE_PAIR_FLOPS_MIRROR, FORCE_PAIR_FMAS, FORCE_PAIR_FMAS_AV, FORCE_TILE,
+    FORCE_PAIR_FLOPS_MIRROR, FORCE_TILE,
 };
 pub(crate) use integrate::kick_drift;
 #[cfg(test)]
