@@ -74,7 +74,8 @@ mod lists {
     /// points at the zero place; every window lies inside the arrays. Each
     /// own pair's two lanes ([`NeighbourList::lanes_of_pairs`]) are the
     /// two listed lanes whose source it is, the first in window order
-    /// first, and every listed lane is one pair's.
+    /// first, and every listed lane is one pair's. A window is unshifted
+    /// exactly when no lane's image is another, and its offsets are then +0.
     fn check_windows(list: &NeighbourList, n: usize) {
         let mut listed = Vec::new();
         for i in 0..n {
@@ -94,6 +95,16 @@ mod lists {
                 .enumerate()
             {
                 assert!(w.start as usize + LANES <= n, "particle {i}");
+                // A window through no image is one the force pass adds +0
+                // to (Window::unshifted).
+                assert_eq!(
+                    w.unshifted(),
+                    (0..LANES).all(|l| w.image(l) == 1),
+                    "particle {i}"
+                );
+                if w.unshifted() {
+                    assert!((0..LANES).all(|l| w.offset(l, list.width()).to_bits() == 0));
+                }
                 for (l, &src) in src.iter().enumerate() {
                     if w.mask() & (1 << l) != 0 {
                         got.push((w.image(l) as usize, w.start as usize + l, src));

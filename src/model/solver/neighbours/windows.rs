@@ -56,6 +56,14 @@ impl Window {
         (self.meta >> (8 + 2 * l)) & 3
     }
 
+    /// Whether every lane's image code is 1, the particle itself rather than
+    /// an image (a lane not listed has code 1): every [`Self::offset`] is
+    /// then +0.
+    #[inline(always)]
+    pub fn unshifted(&self) -> bool {
+        self.meta >> 8 == 0x5555
+    }
+
     /// The x offset of lane l's image, as [`Entry::offset`].
     #[inline(always)]
     pub fn offset(&self, l: usize, width: f64) -> f64 {

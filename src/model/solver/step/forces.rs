@@ -108,6 +108,94 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
         .expect("a window's particles exist")
 }
 
+/// Particle i's values in [`pair_forces`].
+struct ParticleValues {
+    xi: f64,
+    yi: f64,
+    vxi: f64,
+    vyi: f64,
+    pqi: f64,
+    scales: Scales,
+    beta_cap: f64,
+}
+
+/// One window's values in [`pair_forces`]: its particles' as LANES
+/// consecutive values, and its lanes' (dW/dq)/q.
+struct WindowValues<'a> {
+    xw: &'a [f64; LANES],
+    yw: &'a [f64; LANES],
+    vxw: &'a [f64; LANES],
+    vyw: &'a [f64; LANES],
+    pqw: &'a [f64; LANES],
+    volw: &'a [f64; LANES],
+    depthw: &'a [f64; LANES],
+    g: [f64; LANES],
+}
+
+/// One window's terms added into its lanes' accumulators ([`pair_forces`]),
+/// lane l's neighbour seen through the image at x offset `offset(l)`.
+#[inline(always)]
+fn window_terms<const AV: bool, const MIRROR: bool>(
+    particle: &ParticleValues,
+    window: &WindowValues,
+    offset: impl Fn(usize) -> f64,
+    acc_x: &mut [f64; LANES],
+    acc_y: &mut [f64; LANES],
+) {
+    let ParticleValues {
+        xi,
+        yi,
+        vxi,
+        vyi,
+        pqi,
+        scales,
+        beta_cap,
+    } = *particle;
+    let WindowValues {
+        xw,
+        yw,
+        vxw,
+        vyw,
+        pqw,
+        volw,
+        depthw,
+        g,
+    } = *window;
+    for l in 0..LANES {
+        let g = g[l];
+        // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
+        let dx = xi - xw[l] + offset(l);
+        let dy = yi - yw[l];
+        let p = scales.pressure * (pqi + pqw[l]);
+        let (dvx, dvy) = (vxi - vxw[l], vyi - vyw[l]);
+        let mut lv = scales.visc * volw[l];
+        if MIRROR {
+            // A wall particle at depth D beyond the no-slip plane shows
+            // fluid particle i, at distance g from it, the velocity
+            // -(D / g) v_i: the velocity difference grows by beta.
+            // A select, not f64::min: the cap is not NaN (beta_max >=
+            // 1), and min's care for a NaN cap costs two instructions a
+            // lane. The same value for every ratio, NaN included.
+            let ratio = depthw[l] * scales.inv_gap;
+            lv *= 1.0 + if ratio < beta_cap { ratio } else { beta_cap };
+        }
+        let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
+        if AV {
+            // Only approaching pairs (v_ij . r_ij < 0), branch-free.
+            let r2 = dx * dx + dy * dy;
+            let vr = dvx * dx + dvy * dy;
+            // r^2 > 0 for every listed pair; the floor keeps the term
+            // 0, not NaN, in a lane that is not listed and holds i
+            // itself (g = 0 there).
+            let a = scales.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
+            fx += a * dx;
+            fy += a * dy;
+        }
+        acc_x[l] += fx * g;
+        acc_y[l] += fy * g;
+    }
+}
+
 /// The particle i's (sum_x, sum_y) of its force terms, up to h^-4: one
 /// loop over its windows ([`Window`]), each window's particle values
 /// loaded as contiguous vectors (no gather) and its (dW/dq)/q so too from
@@ -150,7 +238,15 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool
     // the table by construction of the list anyway).
     let last = u32::try_from(pair_g.len() - 1).expect("slots fit in u32");
     let (xi, yi, vxi, vyi, pqi) = (x[i], y[i], v_pred_x[i], v_pred_y[i], pressure_term[i]);
-    let beta_cap = scales.beta_max - 1.0;
+    let particle = ParticleValues {
+        xi,
+        yi,
+        vxi,
+        vyi,
+        pqi,
+        scales,
+        beta_cap: scales.beta_max - 1.0,
+    };
     let mut acc_x = [0.0; LANES];
     let mut acc_y = [0.0; LANES];
     for (k, win) in windows.iter().enumerate() {
@@ -177,39 +273,33 @@ pub(super) fn pair_forces<const AV: bool, const MIRROR: bool, const GATHER: bool
         if g.iter().all(|&g| g == 0.0) {
             continue;
         }
-        for l in 0..LANES {
-            let offset = win.offset(l, width);
-            let g = g[l];
-            // grad_i W_ij = g r_ij, up to the h^-4 applied at the end.
-            let dx = xi - xw[l] + offset;
-            let dy = yi - yw[l];
-            let p = scales.pressure * (pqi + pqw[l]);
-            let (dvx, dvy) = (vxi - vxw[l], vyi - vyw[l]);
-            let mut lv = scales.visc * volw[l];
-            if MIRROR {
-                // A wall particle at depth D beyond the no-slip plane shows
-                // fluid particle i, at distance g from it, the velocity
-                // -(D / g) v_i: the velocity difference grows by beta.
-                // A select, not f64::min: the cap is not NaN (beta_max >=
-                // 1), and min's care for a NaN cap costs two instructions a
-                // lane. The same value for every ratio, NaN included.
-                let ratio = depthw[l] * scales.inv_gap;
-                lv *= 1.0 + if ratio < beta_cap { ratio } else { beta_cap };
-            }
-            let (mut fx, mut fy) = (lv * dvx - p * dx, lv * dvy - p * dy);
-            if AV {
-                // Only approaching pairs (v_ij . r_ij < 0), branch-free.
-                let r2 = dx * dx + dy * dy;
-                let vr = dvx * dx + dvy * dy;
-                // r^2 > 0 for every listed pair; the floor keeps the term
-                // 0, not NaN, in a lane that is not listed and holds i
-                // itself (g = 0 there).
-                let a = scales.av * (vr.min(0.0) / r2.max(f64::MIN_POSITIVE));
-                fx += a * dx;
-                fy += a * dy;
-            }
-            acc_x[l] += fx * g;
-            acc_y[l] += fy * g;
+        // Most windows hold no lane found through an image (only lists near
+        // the strip's edges wrap): every offset is then (1 - 1) width = +0,
+        // and such a window adds +0 to each lane's dx without converting the
+        // lanes' codes, the same values: the same bits. The lanes are one
+        // function, inlined into both arms: an array of offsets chosen per
+        // window instead left the loop without artificial viscosity in
+        // 2-lane code (docs/performance.md, the offsets of a window).
+        let window = WindowValues {
+            xw,
+            yw,
+            vxw,
+            vyw,
+            pqw,
+            volw,
+            depthw,
+            g,
+        };
+        if win.unshifted() {
+            window_terms::<AV, MIRROR>(&particle, &window, |_| 0.0, &mut acc_x, &mut acc_y);
+        } else {
+            window_terms::<AV, MIRROR>(
+                &particle,
+                &window,
+                |l| win.offset(l, width),
+                &mut acc_x,
+                &mut acc_y,
+            );
         }
     }
     (lane_sum(acc_x), lane_sum(acc_y))
