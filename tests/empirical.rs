@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use indicatif::ProgressBar;
 use serde_json::Value;
 use shearsph::config::Scene;
-use shearsph::empirical::{answer, queue, Extras, Search, Starts};
+use shearsph::empirical::{answer, queue, Extras, Priority, RunQueue, Search, Starts};
 use shearsph::solver::Class;
 
 fn scene(fields: &[(&str, toml::Value)]) -> Scene {
@@ -156,6 +156,50 @@ fn the_number_of_workers_changes_no_trial() {
         "two c0 on the perfect lattice and two seeds"
     );
     assert_eq!(bits(&one), bits(&three));
+}
+
+/// A run the answer's queue makes at another alpha (the diagnosis's check,
+/// queued beside the answer's own runs) is the run of the scene with that
+/// alpha, bit for bit, and not the scene's own run at that c0 and start.
+#[test]
+fn a_run_at_another_alpha_is_that_scenes_run() {
+    let s = scene(&[
+        ("n_layers", 6.into()),
+        ("re", 1.0.into()),
+        ("horizon_span", 8.0.into()),
+    ]);
+    let search = Search {
+        seeds: 1,
+        ..Search::default()
+    };
+    let (c0, alpha) = (10.0 * s.u, 0.5 * s.alpha);
+    let (stop, bar) = (AtomicBool::new(false), ProgressBar::hidden());
+    let q = RunQueue::new(&s, &search, &stop, &bar);
+    let (at, own) = queue::with_workers(&q, || {
+        let other = q.runs_at(alpha, &[c0], Starts::Seeds);
+        let mine = q.runs_of(&[c0], Starts::Seeds);
+        assert_ne!(other, mine);
+        q.wait(&other, Priority::Ordered)?;
+        assert!(
+            q.collect(&[c0])?[0].pooled.is_none(),
+            "the scene's own run is another"
+        );
+        q.wait(&mine, Priority::Ordered)?;
+        Ok::<_, anyhow::Error>((q.collect_at(alpha, &[c0])?, q.collect(&[c0])?))
+    })
+    .unwrap();
+    let mut s2 = s.clone();
+    s2.alpha = alpha;
+    let alone = queue::trials(&s2, &search, &[c0], Starts::Seeds, &stop, &bar).unwrap();
+    let bits = |t: &[shearsph::empirical::Trial]| -> Vec<(u64, u64, u64)> {
+        t.iter()
+            .flat_map(|t| &t.seeds)
+            .map(|r| (r.eps_stat.to_bits(), r.linf_stat.to_bits(), r.steps))
+            .collect()
+    };
+    assert_eq!(bits(&at).len(), 1);
+    assert_eq!(bits(&at), bits(&alone));
+    assert_ne!(bits(&at), bits(&own), "alpha changes the run");
 }
 
 /// A cheap scene for the CLI's plumbing: a short horizon and one seed.

@@ -32,7 +32,8 @@ pub struct EmpiricalBench {
     /// Wall seconds of each repeat, and their median.
     pub wall_s: Vec<f64>,
     pub wall_s_median: f64,
-    /// Of the first repeat: runs made and their solver steps.
+    /// Of the first repeat: runs made and their solver steps (the trials'
+    /// and, when no c0 is ok, the diagnosis's check).
     pub runs: usize,
     pub steps: u64,
     /// Of those, the perfect lattice's runs and steps (the rest are the
@@ -113,10 +114,12 @@ pub fn empirical(repeats: usize, mut progress: impl FnMut(&str)) -> Result<Vec<E
             }
         }
         let a = first.expect("at least one repeat");
+        // The trials' runs and the diagnosis's check (when no c0 is ok).
         let runs: Vec<_> = a
             .trials
             .iter()
             .flat_map(|t| t.perfect.iter().chain(&t.seeds))
+            .chain(a.diagnosis.iter().flat_map(|d| &d.check_runs))
             .collect();
         let perfect: Vec<_> = a.trials.iter().flat_map(|t| &t.perfect).collect();
         let run_s =

@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use super::law::DisorderedLaw;
 use super::search::Bracket;
-use super::trial::Trial;
+use super::trial::{StartRun, Trial};
 use crate::config::Scene;
 use crate::format::fmt_num;
 use crate::problem::channel::Channel;
@@ -37,29 +37,51 @@ pub struct Diagnosis {
     /// The check of the alpha estimate: alpha and the pooled class at the
     /// compaction's c0.
     pub checked_alpha: Option<(f64, Class)>,
+    /// The check's runs (the seeds at the compaction's c0 and the checked
+    /// alpha), for the runs an answer made.
+    #[serde(skip)]
+    pub check_runs: Vec<StartRun>,
 }
 
-/// The diagnosis from the search's bracket and trials; `trial` runs one c0
-/// of another scene (for the check).
+/// The largest c0 of `trials` whose pooled seeds did not fail and whose
+/// mean flow was accurate.
+fn accurate(scene: &Scene, trials: &[Trial]) -> Option<f64> {
+    let bound = scene.classes().linf_bound;
+    trials
+        .iter()
+        .filter_map(|t| t.pooled.as_ref().map(|p| (t.c0, p)))
+        .filter(|(_, p)| p.class != Class::Failed && p.linf_stat <= bound)
+        .map(|(c, _)| c)
+        .fold(None, |m: Option<f64>, c| Some(m.map_or(c, |m| m.max(c))))
+}
+
+/// The alpha whose seeds the diagnosis runs at `c_comp`, the smallest c0
+/// that does not compress (None without artificial viscosity): the scene's
+/// alpha scaled by the largest accurate c0 of `trials` over `c_comp`, at
+/// most 1 (0 with no accurate c0). A trial above `c_comp` counts only when
+/// it is accurate, and then makes the alpha the scene's own; so the trials
+/// below `c_comp` set it, unless one above it is accurate.
+pub fn check_alpha(scene: &Scene, c_comp: f64, trials: &[Trial]) -> Option<f64> {
+    (scene.alpha > 0.0)
+        .then(|| accurate(scene, trials).map_or(0.0, |a| scene.alpha * (a / c_comp).min(1.0)))
+}
+
+/// The diagnosis from the search's bracket and trials; `trial(alpha, c0)`
+/// gives the seeds' trial at c0 with another alpha (for the check).
 pub fn diagnose(
     scene: &Scene,
     channel: &Channel,
     bracket: &Bracket,
     trials: &[Trial],
     law: Option<&DisorderedLaw>,
-    trial: &mut dyn FnMut(&Scene, f64) -> Result<Trial>,
+    trial: &mut dyn FnMut(f64, f64) -> Result<Trial>,
 ) -> Result<Diagnosis> {
     let u = channel.flow.u;
     let nu = channel.flow.nu;
     let h = channel.lattice.h;
     let rules = scene.classes();
     let share = |alpha: f64, c0: f64| alpha * c0 * h / (8.0 * nu);
-    let accurate = trials
-        .iter()
-        .filter_map(|t| t.pooled.as_ref().map(|p| (t.c0, p)))
-        .filter(|(_, p)| p.class != Class::Failed && p.linf_stat <= rules.linf_bound)
-        .map(|(c, _)| c)
-        .fold(None, |m: Option<f64>, c| Some(m.map_or(c, |m| m.max(c))));
+    let accurate = accurate(scene, trials);
     let Some((c_comp, _)) = bracket.not_compressed else {
         let top = bracket.compressed.map(|c| c.0).unwrap_or(f64::NAN);
         let mut would = Vec::new();
@@ -87,6 +109,7 @@ pub fn diagnose(
             av_share: None,
             would,
             checked_alpha: None,
+            check_runs: Vec::new(),
         });
     };
     let at = trials.iter().find(|t| t.c0 == c_comp);
@@ -96,16 +119,15 @@ pub fn diagnose(
     let s = share(scene.alpha, c_comp);
     let mut would = Vec::new();
     let mut checked_alpha = None;
+    let mut check_runs = Vec::new();
     let ratio = accurate.map(|a| a / c_comp);
     // Whether the artificial viscosity is what binds: checked with a run.
     let mut av_binds = scene.alpha > 0.0;
-    if scene.alpha > 0.0 {
-        let alpha2 = ratio.map_or(0.0, |r| scene.alpha * r.min(1.0));
-        let mut s2 = scene.clone();
-        s2.alpha = alpha2;
-        let t = trial(&s2, c_comp)?;
+    if let Some(alpha2) = check_alpha(scene, c_comp, trials) {
+        let t = trial(alpha2, c_comp)?;
         let p = t.pooled.expect("a trial of the seeds");
         checked_alpha = Some((alpha2, p.class));
+        check_runs = t.seeds;
         av_binds = p.linf_stat <= rules.linf_bound;
         if av_binds {
             would.push(format!(
@@ -162,5 +184,6 @@ pub fn diagnose(
         av_share: Some(s),
         would,
         checked_alpha,
+        check_runs,
     })
 }

@@ -374,6 +374,26 @@ pub fn answer(
         let mut rest = q.runs_of(&both, Starts::Both);
         rest.extend(q.runs_of(&ladder, Starts::Seeds));
         rest.extend(q.runs_of(&rule_c0s, Starts::Both));
+        // With no c0 ok, the diagnosis checks another alpha at the smallest
+        // c0 that does not compress. The seeds' trials below that c0 set
+        // the alpha (diagnose::check_alpha): once they are made, the
+        // check's seeds are queued with the rest, instead of run after it
+        // (a rule above that c0 that turns out accurate makes the alpha the
+        // scene's own, whose runs are made anyway).
+        if let (None, Some((c_comp, _))) = (disordered.c0_min_ok, disordered.not_compressed) {
+            let below: Vec<f64> = disordered
+                .probes
+                .iter()
+                .chain(&ladder)
+                .chain(&rule_c0s)
+                .copied()
+                .filter(|&c| c < c_comp)
+                .collect();
+            q.wait(&q.runs_of(&below, Starts::Seeds), Priority::Ordered)?;
+            if let Some(alpha) = diagnose::check_alpha(scene, c_comp, &q.collect(&below)?) {
+                rest.extend(q.runs_at(alpha, &[c_comp], Starts::Seeds));
+            }
+        }
         q.wait(&rest, Priority::Ordered)?;
         Ok((disordered, band, ordered, both, ladder))
     })?;
@@ -455,7 +475,14 @@ pub fn answer(
             &disordered,
             &trials,
             law.as_ref(),
-            &mut |s, c| Ok(queue::trials(s, search, &[c], Starts::Seeds, stop, bar)?.remove(0)),
+            &mut |alpha, c| match q.collect_at(alpha, &[c])?.remove(0) {
+                t if t.pooled.is_some() => Ok(t),
+                _ => {
+                    let mut s = scene.clone();
+                    s.alpha = alpha;
+                    Ok(queue::trials(&s, search, &[c], Starts::Seeds, stop, bar)?.remove(0))
+                }
+            },
         )?),
     };
     let horizon = horizon_used(scene, search, &trials)?;

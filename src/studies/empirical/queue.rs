@@ -1,5 +1,5 @@
-//! The engine's runs, scheduled: every (c0, start) the answer needs goes
-//! into one queue, and a fixed set of workers ([`RunQueue::workers`]: the
+//! The engine's runs, scheduled: every (c0, start, alpha) the answer needs
+//! goes into one queue, and a fixed set of workers ([`RunQueue::workers`]: the
 //! caller's rayon pool's threads, and on several cores at least one per
 //! seed) takes the most urgent first, each run on its own one-thread pool. The searches ask for their probes and wait; what does
 //! not depend on them (every rule's c0) is queued at the start with the
@@ -43,13 +43,19 @@ pub enum Priority {
     Disordered,
 }
 
-/// A run: its c0 and start (jitter, seed).
-pub type Run = (f64, (f64, u32));
+/// A run: its c0, start (jitter, seed) and artificial viscosity alpha (the
+/// scene's, or another the diagnosis checks).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Run {
+    pub c0: f64,
+    pub start: (f64, u32),
+    pub alpha: f64,
+}
 
-type Key = (u64, u32);
+type Key = (u64, u32, u64);
 
-fn key(&(c0, (_, seed)): &Run) -> Key {
-    (c0.to_bits(), seed)
+fn key(r: &Run) -> Key {
+    (r.c0.to_bits(), r.start.1, r.alpha.to_bits())
 }
 
 enum Slot {
@@ -135,11 +141,17 @@ impl<'a> RunQueue<'a> {
 
     /// The runs `which` makes at each of `c0s`.
     pub fn runs_of(&self, c0s: &[f64], which: Starts) -> Vec<Run> {
+        self.runs_at(self.scene.alpha, c0s, which)
+    }
+
+    /// The same at the artificial viscosity `alpha`.
+    pub fn runs_at(&self, alpha: f64, c0s: &[f64], which: Starts) -> Vec<Run> {
         let mut out: Vec<Run> = Vec::new();
         for &c0 in c0s {
             for start in starts(self.search, which) {
-                if !out.iter().any(|r| key(r) == key(&(c0, start))) {
-                    out.push((c0, start));
+                let run = Run { c0, start, alpha };
+                if !out.iter().any(|r| key(r) == key(&run)) {
+                    out.push(run);
                 }
             }
         }
@@ -212,12 +224,17 @@ impl<'a> RunQueue<'a> {
 
     /// The trials at `c0s` from the runs made so far (none run now).
     pub fn collect(&self, c0s: &[f64]) -> Result<Vec<Trial>> {
+        self.collect_at(self.scene.alpha, c0s)
+    }
+
+    /// The same at the artificial viscosity `alpha`.
+    pub fn collect_at(&self, alpha: f64, c0s: &[f64]) -> Result<Vec<Trial>> {
         let scene = self.scene;
         let info = scene.kernel_info()?;
         let rules = scene.classes();
         let bound = rules.eps_bound(scene.discretisation(info)?);
         let st = self.lock();
-        let get = |c0: f64, seed: u32| match st.slots.get(&(c0.to_bits(), seed)) {
+        let get = |c0: f64, seed: u32| match st.slots.get(&(c0.to_bits(), seed, alpha.to_bits())) {
             Some(Slot::Done(r)) => Some((**r).clone()),
             _ => None,
         };
@@ -294,7 +311,7 @@ impl<'a> RunQueue<'a> {
                         .unwrap_or_else(|| "a panic".into());
                     self.fail(format!(
                         "the run at c0 = {} (seed {}) panicked: {why}",
-                        run.0, run.1 .1
+                        run.c0, run.start.1
                     ));
                 }
             }
@@ -307,8 +324,9 @@ impl<'a> RunQueue<'a> {
         self.changed.notify_all();
     }
 
-    fn make(&self, pool: &rayon::ThreadPool, (c0, start): Run) -> Result<StartRun> {
-        let s = start_scene(self.scene, c0, start);
+    fn make(&self, pool: &rayon::ThreadPool, run: Run) -> Result<StartRun> {
+        let mut s = start_scene(self.scene, run.c0, run.start);
+        s.alpha = run.alpha;
         let r = pool.install(|| run_scene(&s, &mut Stop(self.stop)))?;
         if matches!(r.outcome, Outcome::Interrupted { .. }) {
             bail!("interrupted");
@@ -397,10 +415,15 @@ mod tests {
             st.slots.insert(k, Slot::Running);
             run
         };
+        let run = |c0, start| Run {
+            c0,
+            start,
+            alpha: scene.alpha,
+        };
         for seed in 1..=3 {
-            assert_eq!(take(&q), (3.0, (search.amplitude, seed)));
+            assert_eq!(take(&q), run(3.0, (search.amplitude, seed)));
         }
-        assert_eq!(take(&q), (10.0, (0.0, 0)));
+        assert_eq!(take(&q), run(10.0, (0.0, 0)));
         // A rule's seed the search now needs jumps the queue; asked again
         // lower, it stays where it is; the running ones are not queued again.
         assert_eq!(q.ask(&[rule[2]], Priority::Disordered), 0);
