@@ -20,6 +20,16 @@ fn scene(fields: &[(&str, toml::Value)]) -> Scene {
     Scene::load(None, t).unwrap()
 }
 
+/// N = 6 at Re = 1 with a first checkpoint 8 shear times after the
+/// start-up: runs of a second or so.
+fn short_scene() -> Scene {
+    scene(&[
+        ("n_layers", 6.into()),
+        ("re", 1.0.into()),
+        ("horizon_span", 8.0.into()),
+    ])
+}
+
 /// The answer's c0 and its relative statistical uncertainty.
 fn c0_min(scene: &Scene, search: &Search) -> (f64, f64) {
     let a = answer(
@@ -107,11 +117,7 @@ fn a_too_small_c0_is_ok_on_the_perfect_lattice_but_not_disordered() {
 /// bits.
 #[test]
 fn the_number_of_workers_changes_no_trial() {
-    let s = scene(&[
-        ("n_layers", 6.into()),
-        ("re", 1.0.into()),
-        ("horizon_span", 8.0.into()),
-    ]);
+    let s = short_scene();
     let search = Search {
         seeds: 2,
         ..Search::default()
@@ -163,11 +169,7 @@ fn the_number_of_workers_changes_no_trial() {
 /// alpha, bit for bit, and not the scene's own run at that c0 and start.
 #[test]
 fn a_run_at_another_alpha_is_that_scenes_run() {
-    let s = scene(&[
-        ("n_layers", 6.into()),
-        ("re", 1.0.into()),
-        ("horizon_span", 8.0.into()),
-    ]);
+    let s = short_scene();
     let search = Search {
         seeds: 1,
         ..Search::default()
