@@ -5,9 +5,11 @@
 //! not depend on them (every rule's c0) is queued at the start with the
 //! lowest priority, so it fills a core the searches leave idle (three seeds
 //! on two cores, a probe whose seeds stop at different checkpoints, the
-//! ordered search's single runs) instead of running after them.
+//! ordered search's single runs) instead of running after them. With no
+//! c0 ok, the diagnosis's check (seeds at another alpha) is queued the same
+//! way once its alpha is known.
 //!
-//! A run's result is its scene's, c0's and start's alone (each run is
+//! A run's result is its scene's, c0's, start's and alpha's alone (each run is
 //! single-threaded and the solver is deterministic), so the order the
 //! queue takes runs in, and how many run at once, change no answer: only
 //! the wall time.
