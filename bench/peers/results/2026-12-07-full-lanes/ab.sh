@@ -4,11 +4,13 @@
 # 4-index halves. GATHERS is main built with full-lanes-gathers.patch (run
 # without SHEARSPH_FULL_LANES=1 it takes main's windows: "main" here),
 # RECORDS with full-lanes-records.patch, HALVES with
-# half-windows-two-halves.patch. ROUNDS="1 2" by default.
+# half-windows-two-halves.patch. ROUNDS="1 2" by default. The rounds' files
+# go to OUT (this folder by default); summary.py reads those of the folder
+# it runs in.
 #
 #   GATHERS=... RECORDS=... HALVES=... ./ab.sh && ./summary.py > summary.txt
 set -u
-cd "$(dirname "$0")"
+cd "${OUT:-$(dirname "$0")}"
 for r in ${ROUNDS:-1 2}; do
   for v in main gathers records halves; do
     case $v in
