@@ -203,10 +203,10 @@ struct Sim<'p> {
     /// positions it listed ([`State::ahead`]).
     ahead: f64,
     x_ahead: Vec<f64>,
-    /// Whether rebuilds still list the fluid ahead along its reference:
-    /// until a list built ahead goes stale at the first step after its
-    /// rebuild, then never again in the run ([`list_ahead`]).
-    listing_ahead: bool,
+    /// Whether rebuilds list the fluid ahead along its reference or where
+    /// it is, picked by how long each way's lists would live
+    /// ([`Listing`]).
+    listing: Listing,
     /// Whether a rebuild takes a shear reference, a lattice's as a
     /// disordered fluid's: always, except in the test that measures what
     /// it saves.
@@ -253,14 +253,9 @@ fn g_pick() -> Pick<step::GForm> {
 ///
 /// At the rebuild such a list has only the slack left at a parting of
 /// [`AHEAD_SHARE`] L*, a few hundredths of h, where a list built where the
-/// fluid is has the whole skin. A fluid agitated enough to spend that in
-/// one step would rebuild at almost every step: a wide strip of a
-/// disordered fluid, whose layers' extremes of displacement grow with the
-/// particles they hold (the composite kernel on 144 columns at Re = 10
-/// rebuilt at 95 % of its steps, docs/performance.md). So once a list
-/// built ahead goes stale at the first step after its rebuild, the run
-/// lists the fluid where it is from then on. A run in which that never
-/// happens is the same, bit for bit, as without the rule.
+/// fluid is has the whole skin. A fluid agitated enough to spend that
+/// early lives longer listed where it is: [`Listing`] picks between the
+/// two ways.
 fn list_ahead(cutoff: f64, skin: f64, shear_rate: f64) -> f64 {
     let support = cutoff - skin;
     let limit = (cutoff * cutoff - support * support) / (cutoff * support);
@@ -283,6 +278,86 @@ fn parting(shear_rate: f64, since: f64, ahead: f64) -> f64 {
         (shear_rate * (since - ahead).abs()).max(f64::MIN_POSITIVE)
     } else {
         0.0
+    }
+}
+
+/// Whether rebuilds list the fluid ahead along its reference
+/// ([`list_ahead`]) or where it is, picked by how long each way's lists
+/// would live. Either way the rule keeps every pair within R h listed
+/// ([`Reach`]), so the pick misses no pair: it changes only when the
+/// lists are rebuilt (and so the order of a run's sums). The other way's
+/// list, had the rebuild built it, is weighed at every step by the same
+/// rule on the same boxes, from its own tau (the reference's parting from
+/// it, [`parting`]): where that rule has not found it stale when this
+/// list goes stale, the other way would have outlived this list. After
+/// [`Listing::SWITCH`] lists running that the other way would have
+/// outlived, the rebuilds take it. Runs start listing ahead, which nearly
+/// doubles a lattice's lists' lives; a run in which no switch happens is
+/// the same, bit for bit, as with lists built ahead throughout.
+///
+/// Where it switches (docs/performance.md, an agitated fluid): a wide
+/// strip of a disordered fluid, whose layers hold the extremes of many
+/// particles' agitation, spends the few hundredths of h a list built ahead
+/// has at its rebuild within a step or two (the composite kernel on 144
+/// columns at Re = 10, and the bench's tiled scene of it after about 1600
+/// steps); a lattice that is losing its order does so within a fraction of
+/// its tau. Where a list built where the fluid is then lives less long
+/// than one built ahead would have, the rebuilds go back.
+#[derive(Debug, Clone, Copy)]
+struct Listing {
+    /// Whether rebuilds list the fluid ahead.
+    ahead: bool,
+    /// Whether the other way's list would have gone stale by now.
+    other_stale: bool,
+    /// The lists running, up to this one, that the other way's would have
+    /// outlived.
+    outlived: u32,
+}
+
+impl Listing {
+    /// Counted over the `c0 --empirical` runs at N = 10, Re = 1 and 10,
+    /// of the four kernels (390 runs, 2.0e5 lists, docs/performance.md):
+    /// the other way would have outlived 8 or more lists running in 15
+    /// runs, all the composite kernel's or Wendland C2's (4 or more in
+    /// 30); in the bench's disordered scene at 1e3 and 1e4, 3 at most. A
+    /// streak of 8 is the fluid's state, not chance, and changes the
+    /// fewest runs.
+    const SWITCH: u32 = 8;
+
+    fn new() -> Self {
+        Listing {
+            ahead: true,
+            other_stale: false,
+            outlived: 0,
+        }
+    }
+
+    /// Whether the other way's list is still to be weighed: until it
+    /// would have gone stale.
+    fn asking(&self) -> bool {
+        !self.other_stale
+    }
+
+    /// A step of the list: whether the other way's would be stale now
+    /// (weighed at the same step as this list, so that both stale at one
+    /// step is no life outlived).
+    fn observe(&mut self, stale: bool) {
+        self.other_stale |= stale;
+    }
+
+    /// The list went stale: whether the other way's, `compared` at each of
+    /// its steps, would have outlived it; the pick for the next list.
+    fn rebuilt(&mut self, compared: bool) {
+        if compared && !self.other_stale {
+            self.outlived += 1;
+        } else {
+            self.outlived = 0;
+        }
+        if self.outlived >= Self::SWITCH {
+            self.ahead = !self.ahead;
+            self.outlived = 0;
+        }
+        self.other_stale = false;
     }
 }
 
@@ -367,9 +442,24 @@ impl<'p> Sim<'p> {
             shear_rate: 0.0,
             ahead: 0.0,
             x_ahead: Vec::new(),
-            listing_ahead: true,
+            listing: Listing::new(),
             use_reference: true,
             force_tile: step::FORCE_TILE,
+        }
+    }
+
+    /// The tau the other way of listing would have taken at the last
+    /// rebuild ([`Listing`]): 0 for a list built ahead, [`list_ahead`]'s
+    /// for one built where the fluid is; none without a reference, or
+    /// where both ways are one (no tau to build ahead by).
+    fn other_ahead(&self) -> Option<f64> {
+        if self.shear_rate <= 0.0 {
+            None
+        } else if self.ahead > 0.0 {
+            Some(0.0)
+        } else {
+            let tau = list_ahead(self.cutoff, self.skin, self.shear_rate);
+            (tau > 0.0).then_some(tau)
         }
     }
 
@@ -390,7 +480,6 @@ impl<'p> Sim<'p> {
     /// miss a pair, density, forces and the closing kick.
     fn advance<K: Kernel>(&mut self, dt: f64) -> StepCheck {
         let lat = &self.problem.lattice;
-        let first_step = self.since_rebuild == 0.0;
         self.since_rebuild += dt;
         let since = self.since_rebuild;
         let reference = (self.shear_rate > 0.0).then_some(since);
@@ -402,16 +491,26 @@ impl<'p> Sim<'p> {
             cutoff: self.cutoff,
             parting: parting(self.shear_rate, since, self.ahead),
         };
-        if self.list.stale(
-            |b| motion.get(b).map_or(Displacements::ZERO, |m| m.0),
-            reach,
-        ) {
-            let start = Instant::now();
-            if first_step && self.ahead > 0.0 {
-                // The fluid's agitation spent in one step the slack the list
-                // built ahead left at its rebuild ([`list_ahead`]).
-                self.listing_ahead = false;
+        let box_of = |b: usize| motion.get(b).map_or(Displacements::ZERO, |m| m.0);
+        // The other way's list, built at the same rebuild, weighed by the
+        // same rule on the same boxes from the tau it would have taken,
+        // until it would have gone stale.
+        let other = self.other_ahead();
+        let stale = match other.filter(|_| self.listing.asking()) {
+            Some(tau) => {
+                let other = Reach {
+                    parting: parting(self.shear_rate, since, tau),
+                    ..reach
+                };
+                let [this, that] = self.list.stale_each(box_of, [reach, other]);
+                self.listing.observe(that);
+                this
             }
+            None => self.list.stale(box_of, reach),
+        };
+        if stale {
+            let start = Instant::now();
+            self.listing.rebuilt(other.is_some());
             self.s.wrap(lat.width);
             self.since_rebuild = 0.0;
             self.shear_rate = 0.0;
@@ -438,7 +537,7 @@ impl<'p> Sim<'p> {
             }
             // A fluid with a reference is listed ahead along it, while that
             // pays.
-            self.ahead = if self.listing_ahead {
+            self.ahead = if self.listing.ahead {
                 list_ahead(self.cutoff, self.skin, self.shear_rate)
             } else {
                 0.0

@@ -595,6 +595,54 @@ mod reorder_tests {
         }
     }
 
+    /// The pick between listing ahead and where the fluid is
+    /// ([`super::super::Listing`]) switches after SWITCH lists running that
+    /// the other way would have outlived, not before; a list the other way
+    /// would not have outlived (its rule stale first, or at the same step),
+    /// or one with nothing to compare (no reference), starts the count
+    /// again; and it switches back the same way.
+    #[test]
+    fn the_listing_switches_after_lists_running_the_other_way_outlived() {
+        use super::super::Listing;
+        let mut pick = Listing::new();
+        assert!(pick.ahead, "a run starts listing ahead");
+        // A list the other way's rule found stale at its second step: it
+        // would have gone stale, and is not asked again until the next
+        // list.
+        let outlived_not = |pick: &mut Listing| {
+            pick.observe(false);
+            pick.observe(true);
+            assert!(!pick.asking(), "asked until stale");
+            pick.rebuilt(true);
+            assert!(pick.asking(), "asked again for the next list");
+        };
+        let outlived = |pick: &mut Listing| {
+            pick.observe(false);
+            pick.observe(false);
+            pick.rebuilt(true);
+        };
+        for _ in 0..Listing::SWITCH - 1 {
+            outlived(&mut pick);
+        }
+        outlived_not(&mut pick);
+        assert!(pick.ahead, "a list not outlived starts the count again");
+        for _ in 0..Listing::SWITCH - 1 {
+            outlived(&mut pick);
+        }
+        pick.rebuilt(false);
+        assert!(pick.ahead, "a list with nothing compared starts it again");
+        for _ in 0..Listing::SWITCH - 1 {
+            outlived(&mut pick);
+            assert!(pick.ahead, "not before SWITCH lists running");
+        }
+        outlived(&mut pick);
+        assert!(!pick.ahead, "switched to listing where the fluid is");
+        for _ in 0..Listing::SWITCH {
+            outlived(&mut pick);
+        }
+        assert!(pick.ahead, "and back");
+    }
+
     /// The positions ahead along the reference lie in the strip; a fluid
     /// particle whose position ahead wrapped moved by the strip's width
     /// with its x0, so that its position ahead is its position plus u tau
@@ -721,8 +769,8 @@ mod reorder_tests {
     /// by 0.05 d on a strip of 48 columns, run to t = 400: the rebuilds
     /// after the list made at the start, and whether rebuilds still list
     /// the fluid ahead along its reference at the end. `keep_ahead` lists
-    /// it ahead at every rebuild, as before [`super::super::list_ahead`]'s
-    /// rule for an agitated fluid. Every 16th step, no pair within R h is
+    /// it ahead at every rebuild, as without the pick between the ways
+    /// ([`super::super::Listing`]). Every 16th step, no pair within R h is
     /// missed.
     fn wide_agitated_strip(keep_ahead: bool) -> (u64, bool) {
         let scene = Scene {
@@ -744,22 +792,25 @@ mod reorder_tests {
                 let dt = sim.time_step().dt;
                 let check = sim.advance::<Composite>(dt);
                 assert!(sim.failure(&check).is_none(), "no failure");
-                sim.listing_ahead |= keep_ahead;
+                if keep_ahead {
+                    // No list outlived: the pick never switches.
+                    sim.listing.outlived = 0;
+                }
                 t += dt;
                 step += 1;
                 if step % 16 == 0 {
                     assert_eq!(missed_pairs(&sim), 0, "a pair missed at t = {t}");
                 }
             }
-            (sim.list.rebuilds - first, sim.listing_ahead)
+            (sim.list.rebuilds - first, sim.listing.ahead)
         })
     }
 
     /// A wide strip's layers hold the extremes of many particles'
-    /// agitation, which spend in one step the slack a list built ahead
-    /// leaves at its rebuild: listed ahead to the end, this strip rebuilds
-    /// at about half its steps. Once a list built ahead goes stale at its
-    /// first step, the run lists the fluid where it is: it misses no pair
+    /// agitation, which spend within a step or two the slack a list built
+    /// ahead leaves at its rebuild: listed ahead to the end, this strip
+    /// rebuilds at about half its steps. Where lists built where the fluid
+    /// is would have outlived those, the run takes them: it misses no pair
     /// and rebuilds less than half as often.
     #[test]
     fn a_fluid_too_agitated_for_lists_built_ahead_is_listed_where_it_is() {

@@ -109,24 +109,46 @@ impl NeighbourList {
     /// along x only): they need no two y displacements of the fluid to
     /// differ by more than the skin.
     pub fn stale(&self, box_of: impl Fn(usize) -> Displacements, reach: Reach) -> bool {
+        self.stale_each(box_of, [reach])[0]
+    }
+
+    /// [`Self::stale`] for each of `reaches` on the same boxes (a list and
+    /// the one another rebuild would have built, `Listing` in the solver):
+    /// each box and union formed once, the same answer as each alone.
+    pub fn stale_each<const K: usize>(
+        &self,
+        box_of: impl Fn(usize) -> Displacements,
+        reaches: [Reach; K],
+    ) -> [bool; K] {
         // No room, or none known (a time or profile that is not finite):
         // rebuild.
-        let slack = reach.slack();
-        if slack.is_nan() || slack <= 0.0 {
-            return true;
+        let slack = reaches.map(|r| r.slack());
+        let mut stale = slack.map(|s| s.is_nan() || s <= 0.0);
+        if stale.iter().all(|&s| s) {
+            return stale;
         }
         let n_blocks = self.near_start.len() - 1;
         let all = (0..n_blocks).fold(Displacements::EMPTY, |acc, b| acc.union(box_of(b)));
-        if all.dy_max - all.dy_min > reach.skin {
-            return true;
+        for (s, r) in stale.iter_mut().zip(&reaches) {
+            *s |= all.dy_max - all.dy_min > r.skin;
         }
-        (0..n_blocks).any(|a| {
+        let mut weigh = |d: Displacements| {
+            for (s, &slack) in stale.iter_mut().zip(&slack) {
+                *s = *s || d.wider_than(slack);
+            }
+            stale.iter().all(|&s| s)
+        };
+        for a in 0..n_blocks {
             let box_a = box_of(a);
-            box_a.wider_than(slack)
+            if weigh(box_a)
                 || self.near[self.near_start[a] as usize..self.near_start[a + 1] as usize]
                     .iter()
-                    .any(|&b| box_a.union(box_of(b as usize)).wider_than(slack))
-        })
+                    .any(|&b| weigh(box_a.union(box_of(b as usize))))
+            {
+                break;
+            }
+        }
+        stale
     }
 
     /// The pairs of blocks within `cutoff` of each other in y.
