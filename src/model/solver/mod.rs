@@ -319,7 +319,7 @@ impl Listing {
     /// of the four kernels (390 runs, 2.0e5 lists, docs/performance.md):
     /// the other way would have outlived 8 or more lists running in 15
     /// runs, all the composite kernel's or Wendland C2's (4 or more in
-    /// 30); in the bench's disordered scene at 1e3 and 1e4, 3 at most. A
+    /// 30); in the bench's disordered scene at 1e3 and 1e4, 5 at most. A
     /// streak of 8 is the fluid's state, not chance, and changes the
     /// fewest runs.
     const SWITCH: u32 = 8;
