@@ -816,7 +816,7 @@ mod reorder_tests {
     fn a_fluid_too_agitated_for_lists_built_ahead_is_listed_where_it_is() {
         let (with, ahead) = wide_agitated_strip(false);
         let (without, _) = wide_agitated_strip(true);
-        assert!(!ahead, "the rule stopped listing ahead");
+        assert!(!ahead, "the pick lists where the fluid is at the end");
         assert!(2 * with < without, "{with} rebuilds against {without}");
     }
 

@@ -450,6 +450,30 @@ mod stale_tests {
         b[0] = Displacements::EMPTY;
         b[0].add(0.0, 0.31);
         assert!(stale(&b));
+        // Several reaches weighed together on the same boxes
+        // ([`NeighbourList::stale_each`]) answer as each alone, in either
+        // order: stale, not, and one of each.
+        let mut mixed = false;
+        for boxes in [0.1, 0.29 / v, 0.31 / v, 1.0]
+            .map(moved)
+            .into_iter()
+            .chain([b])
+        {
+            for parting in [0.0, 0.05, 0.2, 0.3, f64::NAN] {
+                let other = Reach { parting, ..reach };
+                let alone = [
+                    list.stale(|k| boxes[k], reach),
+                    list.stale(|k| boxes[k], other),
+                ];
+                mixed |= alone[0] != alone[1];
+                assert_eq!(list.stale_each(|k| boxes[k], [reach, other]), alone);
+                assert_eq!(
+                    list.stale_each(|k| boxes[k], [other, reach]),
+                    [alone[1], alone[0]]
+                );
+            }
+        }
+        assert!(mixed, "some boxes stale for one reach and not the other");
     }
 
     /// [`Reach::slack`] is the bound it says and no looser: a pair more
